@@ -1,0 +1,63 @@
+// Simulated differential steering: wheel speed commands are clamped to
+// +-max_speed, and the wheels reach them no faster than max_acceleration;
+// the engine then moves the robot with the resulting wheel speeds.
+#include <algorithm>
+#include <cmath>
+
+#include "actuators/differential_steering/differential_steering.h"
+#include "core/device.h"
+#include "core/simulation.h"
+
+namespace colony {
+namespace {
+
+struct SteeringInstance : DifferentialSteering, InstanceBase {
+  using Interface = DifferentialSteering;
+};
+
+class SteeringSystem : public ActuatorSystem {
+ public:
+  void Configure(const ConfigNode& node) override {
+    max_speed_ = node.GetDouble("max_speed", -1, Range::Positive());
+    max_acceleration_ = node.GetDouble("max_acceleration", 3.0, Range::Positive());
+  }
+  Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
+    if (!sim().space().drive(robot.index)) throw AttachError("it has no wheels");
+    return &instances_.Add(robot, rng);
+  }
+  void Detach(Actuator* a) override { instances_.Remove(static_cast<DifferentialSteering*>(a)); }
+  size_t size() const override { return instances_.size(); }
+
+  void Act(size_t begin, size_t end) override {
+    Space& space = sim().space();
+    const double max_delta = max_acceleration_ * sim().dt();
+    for (size_t k = begin; k < end; ++k) {
+      SteeringInstance& s = instances_[k];
+      if (!s.alive) continue;
+      DriveState& d = *space.drive(s.robot.index);
+      const double limit = max_speed_ > 0 ? std::min(max_speed_, d.max_speed) : d.max_speed;
+      // NaN commands stop the wheels rather than poisoning the state.
+      auto clamp = [&](double v) { return std::isfinite(v) ? std::clamp(v, -limit, limit) : 0.0; };
+      d.target_left = clamp(s.target_left());
+      d.target_right = clamp(s.target_right());
+      d.left += std::clamp(d.target_left - d.left, -max_delta, max_delta);
+      d.right += std::clamp(d.target_right - d.right, -max_delta, max_delta);
+    }
+  }
+
+ private:
+  double max_speed_ = -1;
+  double max_acceleration_ = 3.0;
+  InstanceStore<SteeringInstance> instances_;
+};
+
+COLONY_REGISTER_ACTUATOR(
+    SteeringSystem, "differential_steering", "default",
+    "left and right wheel speeds (m/s), clamped to max_speed and limited in acceleration",
+    (std::vector<AttributeDoc>{
+        {"max_speed", "a number > 0 (m/s)", "the robot's (marXbot: 0.3)", "speed limit of each wheel"},
+        {"max_acceleration", "a number > 0 (m/s^2)", "3", "how fast a wheel changes speed"},
+    }));
+
+}  // namespace
+}  // namespace colony

@@ -1,0 +1,55 @@
+// Diffusion: the classic first swarm controller. Drive straight while the
+// proximity readings, summed as vectors, point within +-alpha of the heading
+// and stay shorter than delta; otherwise turn on the spot away from the side
+// the obstacle is on.
+#include <cmath>
+
+#include "actuators/differential_steering/differential_steering.h"
+#include "core/registry.h"
+#include "sensors/proximity/proximity.h"
+
+namespace {
+
+class Diffusion : public colony::Controller {
+ public:
+  void Init(const colony::Params& params) override {
+    alpha_ = params.GetDouble("alpha", 7.5, 0, 180) * M_PI / 180.0;
+    delta_ = params.GetDouble("delta", 0.1, 0, 1e9);
+    velocity_ = params.GetDouble("velocity", 0.05, 0, 10);
+    proximity_ = &GetSensor<colony::ProximitySensor>("proximity");
+    wheels_ = &GetActuator<colony::DifferentialSteering>("differential_steering");
+  }
+
+  void ControlStep() override {
+    double x = 0, y = 0;
+    const auto& readings = proximity_->readings();
+    for (const auto& r : readings) {
+      x += r.value * std::cos(r.angle);
+      y += r.value * std::sin(r.angle);
+    }
+    if (!readings.empty()) {
+      x /= readings.size();
+      y /= readings.size();
+    }
+    const double angle = std::atan2(y, x);
+    const double length = std::hypot(x, y);
+    if (std::abs(angle) <= alpha_ && length < delta_) {
+      wheels_->SetLinearVelocity(velocity_, velocity_);
+    } else if (angle > 0) {
+      wheels_->SetLinearVelocity(velocity_, 0);  // obstacle on the left: turn right
+    } else {
+      wheels_->SetLinearVelocity(0, velocity_);  // obstacle on the right: turn left
+    }
+  }
+
+ private:
+  double alpha_ = 0, delta_ = 0, velocity_ = 0;
+  const colony::ProximitySensor* proximity_ = nullptr;
+  colony::DifferentialSteering* wheels_ = nullptr;
+};
+
+COLONY_REGISTER_CONTROLLER(Diffusion, "diffusion",
+                           "wander and avoid obstacles with the proximity ring; params: alpha "
+                           "(degrees, 7.5), delta (0.1), velocity (m/s, 0.05)");
+
+}  // namespace

@@ -1,0 +1,138 @@
+// The control interface: everything a robot's program sees. It includes
+// nothing from the simulator, so a controller written against it can be
+// compiled for a real robot with another implementation of the same sensor
+// and actuator classes.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/random.h"
+
+namespace colony {
+
+// Base of every sensor's control interface (sensors/<name>/<name>.h).
+class Sensor {
+ public:
+  virtual ~Sensor() = default;
+};
+
+// Base of every actuator's control interface (actuators/<name>/<name>.h).
+class Actuator {
+ public:
+  virtual ~Actuator() = default;
+};
+
+// A parameter that was missing or could not be read; the host turns it into
+// a message naming the file, line and element.
+class ParamError : public std::runtime_error {
+ public:
+  ParamError(std::string key, std::string value, const std::string& message)
+      : std::runtime_error(message), key_(std::move(key)), value_(std::move(value)) {}
+  const std::string& key() const { return key_; }
+  const std::string& value() const { return value_; }
+
+ private:
+  std::string key_;
+  std::string value_;
+};
+
+// Parameters of a controller or loop functions: the attributes of its
+// <params> element. Getters throw ParamError on a malformed value, so a typo
+// in an experiment file is reported instead of silently replaced.
+class Params {
+ public:
+  void Set(std::string key, std::string value);
+  bool Has(std::string_view key) const;
+  std::string GetString(std::string_view key, std::string_view fallback) const;
+  std::string GetString(std::string_view key) const;  // required
+  // A finite number in [min, max].
+  double GetDouble(std::string_view key, double fallback, double min = -1e300,
+                   double max = 1e300) const;
+  double GetDouble(std::string_view key) const;  // required
+  int64_t GetInt(std::string_view key, int64_t fallback, int64_t min = INT64_MIN,
+                 int64_t max = INT64_MAX) const;
+  bool GetBool(std::string_view key, bool fallback) const;
+  // Keys present but never read: the host reports them as unknown parameters.
+  std::vector<std::string> Unread() const;
+  // Every key a getter asked for, present or not (to suggest a correction).
+  const std::vector<std::string>& Asked() const { return asked_; }
+
+ private:
+  struct Entry {
+    std::string key;
+    std::string value;
+    mutable bool read = false;
+  };
+  const Entry* Find(std::string_view key) const;
+  std::vector<Entry> entries_;
+  mutable std::vector<std::string> asked_;
+};
+
+// What the host hands a controller: its robot's id and the devices declared
+// for it in the experiment file, by label. Filled by the simulator (or by a
+// real robot's runtime) before Init.
+struct DeviceTable {
+  const std::string* robot_id = nullptr;
+  const std::vector<std::string>* sensor_labels = nullptr;
+  Sensor* const* sensors = nullptr;
+  const std::vector<std::string>* actuator_labels = nullptr;
+  Actuator* const* actuators = nullptr;
+};
+
+// Base of every robot controller. Subclass it, register it with
+// COLONY_REGISTER_CONTROLLER (core/registry.h), build it as a shared library.
+class Controller {
+ public:
+  virtual ~Controller() = default;
+  // Called once with the <params> of the controller's configuration.
+  virtual void Init(const Params& params) { (void)params; }
+  // Called once per tick, after the sensors were read.
+  virtual void ControlStep() = 0;
+  virtual void Reset() {}
+  virtual void Destroy() {}
+
+  const std::string& id() const { return *devices_.robot_id; }
+  // This robot's own random stream (deterministic whatever the thread count).
+  RandomStream& rng() { return rng_; }
+
+  // The sensor declared with element name `label` in <sensors>. Throws
+  // std::logic_error when it is not declared or is not a T.
+  template <class T>
+  T& GetSensor(std::string_view label) const {
+    return Lookup<T>(label, *devices_.sensor_labels, devices_.sensors, "sensor", "<sensors>");
+  }
+  template <class T>
+  T& GetActuator(std::string_view label) const {
+    return Lookup<T>(label, *devices_.actuator_labels, devices_.actuators, "actuator",
+                     "<actuators>");
+  }
+
+  // For the host: binds the devices and the random stream before Init.
+  void Bind(const DeviceTable& devices, const RandomStream& rng) {
+    devices_ = devices;
+    rng_ = rng;
+  }
+
+ private:
+  template <class T, class D>
+  static T& Lookup(std::string_view label, const std::vector<std::string>& labels, D* const* items,
+                   const char* what, const char* section) {
+    for (size_t i = 0; i < labels.size(); ++i) {
+      if (labels[i] != label) continue;
+      if (auto* typed = dynamic_cast<T*>(items[i])) return *typed;
+      throw std::logic_error(std::string(what) + " '" + std::string(label) +
+                             "' is not of the type the controller asked for");
+    }
+    throw std::logic_error("the controller asked for " + std::string(what) + " '" +
+                           std::string(label) + "', which is not declared in its " + section);
+  }
+
+  DeviceTable devices_;
+  RandomStream rng_;
+};
+
+}  // namespace colony

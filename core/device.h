@@ -1,0 +1,101 @@
+// Simulated sensors and actuators (plugin kinds "sensor" and "actuator").
+// One system object exists per (controller configuration, device element);
+// it owns the instances of every robot using that configuration and updates
+// them all in one batch, in parallel chunks, instead of one virtual call per
+// robot. Each instance is the control-interface object the controller reads.
+#pragma once
+
+#include <deque>
+#include <string>
+
+#include "core/config.h"
+#include "core/control_interface.h"
+#include "core/noise.h"
+#include "core/registry.h"
+#include "core/space.h"
+
+namespace colony {
+
+class Simulation;
+
+// A robot cannot carry a device (e.g. it has no proximity ring).
+class AttachError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Bookkeeping every instance carries besides its control interface.
+struct InstanceBase {
+  EntityHandle robot;
+  bool alive = true;
+  RandomStream rng;
+};
+
+// Instances with stable addresses (controllers keep pointers to them).
+template <class Instance>
+class InstanceStore {
+ public:
+  Instance& Add(EntityHandle robot, const RandomStream& rng) {
+    Instance& item = items_.emplace_back();
+    item.robot = robot;
+    item.rng = rng;
+    return item;
+  }
+  void Remove(const void* interface) {
+    for (auto& item : items_) {
+      if (static_cast<const void*>(static_cast<const typename Instance::Interface*>(&item)) == interface) {
+        item.alive = false;
+      }
+    }
+  }
+  size_t size() const { return items_.size(); }
+  Instance& operator[](size_t i) { return items_[i]; }
+  const Instance& operator[](size_t i) const { return items_[i]; }
+
+ private:
+  std::deque<Instance> items_;
+};
+
+class SensorSystem {
+ public:
+  virtual ~SensorSystem() = default;
+  // Reads the sensor's element in a controller's <sensors>.
+  virtual void Configure(const ConfigNode& node) = 0;
+  // Adds the instance for `robot`; throws AttachError if it cannot carry it.
+  virtual Sensor* Attach(EntityHandle robot, const RandomStream& rng) = 0;
+  virtual void Detach(Sensor* instance) = 0;
+  virtual size_t size() const = 0;
+  // Updates instances [begin, end) from the space; chunks run in parallel.
+  virtual void Update(size_t begin, size_t end) = 0;
+  // Adds what controllers read to the state hash.
+  virtual void Hash(StateHasher& h) const { (void)h; }
+
+  void Bind(Simulation* sim) { sim_ = sim; }
+
+ protected:
+  Simulation& sim() const { return *sim_; }
+
+ private:
+  Simulation* sim_ = nullptr;
+};
+
+class ActuatorSystem {
+ public:
+  virtual ~ActuatorSystem() = default;
+  virtual void Configure(const ConfigNode& node) = 0;
+  virtual Actuator* Attach(EntityHandle robot, const RandomStream& rng) = 0;
+  virtual void Detach(Actuator* instance) = 0;
+  virtual size_t size() const = 0;
+  // Writes the commands of instances [begin, end) into the space.
+  virtual void Act(size_t begin, size_t end) = 0;
+
+  void Bind(Simulation* sim) { sim_ = sim; }
+
+ protected:
+  Simulation& sim() const { return *sim_; }
+
+ private:
+  Simulation* sim_ = nullptr;
+};
+
+}  // namespace colony

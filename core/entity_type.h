@@ -1,0 +1,61 @@
+// Entity types (plugin kind "entity"): marxbot, box, cylinder, light... An
+// entity type reads its XML element into an EntityDesc; the simulation adds
+// it to the space and hands it to an engine and, for robots, to a controller.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "core/config.h"
+#include "core/registry.h"
+#include "core/space.h"
+
+namespace colony {
+
+// Devices evenly spaced on a ring around a robot's vertical axis: proximity
+// sensors, ground sensors, LEDs. Sensors read this when attached.
+struct RingMount {
+  int count = 0;
+  double radius = 0;       // from the robot's axis (m)
+  double elevation = 0;    // above the robot's base (m)
+  double start_angle = 0;  // of the first device, counter-clockwise from the front (rad)
+  double range = 0;        // nominal range where it applies (m)
+  double AngleOf(int i) const { return start_angle + 2.0 * M_PI * i / count; }
+};
+
+// Where a robot type carries its devices, by name ("proximity", "ground", "leds").
+struct DeviceMounts {
+  std::map<std::string, RingMount, std::less<>> rings;
+  const RingMount* Ring(std::string_view name) const {
+    auto it = rings.find(name);
+    return it == rings.end() ? nullptr : &it->second;
+  }
+};
+
+// What one entity is, as read from the experiment file.
+struct EntityDesc {
+  Space::EntityInit init;  // id, pose, geometry, flags, colour, LEDs, drive, light
+  double mass = 0;         // kg (for dynamics engines)
+  std::string controller;  // robots: the id of the controller configuration
+};
+
+class EntityType {
+ public:
+  virtual ~EntityType() = default;
+  // Reads the type's own attributes of `node` into `desc` (id, pose and the
+  // <controller> child are read by the caller).
+  virtual void Build(const ConfigNode& node, EntityDesc& desc) const = 0;
+  // Whether its pose comes from a <body position orientation> child (ARGoS
+  // style); otherwise from `position`/`orientation` attributes on the element.
+  virtual bool has_body() const { return true; }
+  // Whether it carries a controller.
+  virtual bool is_robot() const { return false; }
+  virtual const DeviceMounts& mounts() const {
+    static const DeviceMounts kNone;
+    return kNone;
+  }
+};
+
+}  // namespace colony

@@ -1,0 +1,41 @@
+// The arena floor: a flat colour or a PNG image stretched over the arena,
+// read by ground sensors (grey level) and drawn by renderers.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/color.h"
+
+namespace colony {
+
+class Floor {
+ public:
+  void SetColor(Color c) { color_ = c; }
+  // Loads a PNG covering the rectangle [min_x, max_x] x [min_y, max_y].
+  // Returns an error message, or an empty string on success.
+  std::string LoadImage(const std::string& path, double min_x, double min_y, double max_x,
+                        double max_y);
+  // Colour at (x, y); outside the image: the flat colour.
+  Color ColorAt(double x, double y) const {
+    if (width_ == 0) return color_;
+    const double u = (x - min_x_) / (max_x_ - min_x_);
+    const double v = (max_y_ - y) / (max_y_ - min_y_);  // image row 0 is the far (max y) edge
+    if (u < 0 || u >= 1 || v < 0 || v >= 1) return color_;
+    const int px = static_cast<int>(u * width_);
+    const int py = static_cast<int>(v * height_);
+    return pixels_[static_cast<size_t>(py) * width_ + px];
+  }
+  double GreyAt(double x, double y) const { return ColorAt(x, y).Grey(); }
+  bool has_image() const { return width_ > 0; }
+  const std::string& image_path() const { return path_; }
+
+ private:
+  Color color_ = Color::White();
+  std::string path_;
+  int width_ = 0, height_ = 0;
+  double min_x_ = 0, min_y_ = 0, max_x_ = 1, max_y_ = 1;
+  std::vector<Color> pixels_;
+};
+
+}  // namespace colony

@@ -1,0 +1,833 @@
+// Experiment files: XML -> validated, built Simulation.
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+
+#include "core/geometry2d.h"
+#include "core/plugin_loader.h"
+#include "core/simulation.h"
+
+namespace colony {
+
+namespace {
+
+const std::vector<std::string> kTopLevel = {"framework",       "controllers", "loop_functions",
+                                            "arena",           "physics_engines", "media",
+                                            "visualization",   "output"};
+
+std::string Join(const std::vector<std::string>& items) {
+  std::string out;
+  for (size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + items[i];
+  return out;
+}
+
+[[noreturn]] void Fail(const std::string& file, int line, const std::string& message) {
+  throw ConfigError(std::vector<Diagnostic>{Diagnostic{file, line, "", "", "", message}});
+}
+
+// Applies one "--set a.b[id].c=value" to the document. Path segments are
+// element names below the root (the root's own name may lead), optionally
+// with [id] to pick among siblings; the last segment is the attribute.
+void ApplyOverride(tinyxml2::XMLDocument& doc, const std::string& spec, const std::string& file) {
+  const size_t eq = spec.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw ConfigError("--set '" + spec + "': expected PATH=VALUE, e.g. framework.experiment.length=10");
+  }
+  const std::string path = spec.substr(0, eq);
+  const std::string value = spec.substr(eq + 1);
+  auto segments = SplitList(path, '.');
+  tinyxml2::XMLElement* element = doc.RootElement();
+  if (!segments.empty() && segments.front() == element->Name()) segments.erase(segments.begin());
+  if (segments.size() < 2) {
+    throw ConfigError("--set '" + spec + "': the path needs at least an element and an attribute, e.g. framework.experiment.length=10");
+  }
+  for (size_t i = 0; i + 1 < segments.size(); ++i) {
+    std::string name = segments[i], id;
+    const size_t bracket = name.find('[');
+    if (bracket != std::string::npos) {
+      if (name.back() != ']') throw ConfigError("--set '" + spec + "': malformed segment '" + name + "'; accepted: name or name[id]");
+      id = name.substr(bracket + 1, name.size() - bracket - 2);
+      name = name.substr(0, bracket);
+    }
+    std::vector<tinyxml2::XMLElement*> matches;
+    std::vector<std::string> names;
+    for (auto* c = element->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      names.push_back(c->Name());
+      if (name != c->Name()) continue;
+      if (!id.empty() && (!c->Attribute("id") || id != c->Attribute("id"))) continue;
+      matches.push_back(c);
+    }
+    if (matches.empty()) {
+      std::string message = "--set '" + spec + "': no element <" + segments[i] + "> inside <" +
+                            element->Name() + "> (line " + std::to_string(element->GetLineNum()) + ")";
+      const std::string guess = DidYouMean(name, names);
+      if (!guess.empty() && guess != name) message += "; did you mean '" + guess + "'?";
+      throw ConfigError(std::vector<Diagnostic>{Diagnostic{file, element->GetLineNum(), "", "", path, message}});
+    }
+    if (matches.size() > 1) {
+      throw ConfigError("--set '" + spec + "': <" + name + "> matches " + std::to_string(matches.size()) +
+                        " elements inside <" + element->Name() + ">; pick one with " + name + "[id]");
+    }
+    element = matches.front();
+  }
+  element->SetAttribute(segments.back().c_str(), value.c_str());
+}
+
+// Placed footprints, to reject entities inside walls or on top of each other.
+class PlacementIndex {
+ public:
+  explicit PlacementIndex(double cell) : cell_(cell) {}
+  struct Item {
+    Pose pose;
+    Geometry geometry;
+    std::string id;
+    int line;
+  };
+  // The id of a placed solid footprint overlapping `pose`/`g`, or nullptr.
+  const Item* FindOverlap(const Pose& pose, const Geometry& g) const {
+    const Vec2 half = FootprintHalfExtents(g, pose.orientation);
+    const Vec3& p = pose.position;
+    for (int64_t cy = Cell(p.y() - half.y()); cy <= Cell(p.y() + half.y()); ++cy) {
+      for (int64_t cx = Cell(p.x() - half.x()); cx <= Cell(p.x() + half.x()); ++cx) {
+        auto it = cells_.find(Key(cx, cy));
+        if (it == cells_.end()) continue;
+        for (uint32_t k : it->second) {
+          if (Overlaps(pose, g, items_[k].pose, items_[k].geometry)) return &items_[k];
+        }
+      }
+    }
+    return nullptr;
+  }
+  void Insert(const Pose& pose, const Geometry& g, const std::string& id, int line) {
+    const uint32_t k = static_cast<uint32_t>(items_.size());
+    items_.push_back({pose, g, id, line});
+    const Vec2 half = FootprintHalfExtents(g, pose.orientation);
+    const Vec3& p = pose.position;
+    for (int64_t cy = Cell(p.y() - half.y()); cy <= Cell(p.y() + half.y()); ++cy)
+      for (int64_t cx = Cell(p.x() - half.x()); cx <= Cell(p.x() + half.x()); ++cx)
+        cells_[Key(cx, cy)].push_back(k);
+  }
+
+ private:
+  static bool HeightsOverlap(const Pose& a, const Geometry& ga, const Pose& b, const Geometry& gb) {
+    return a.position.z() < b.position.z() + gb.height() && b.position.z() < a.position.z() + ga.height();
+  }
+  static bool Overlaps(const Pose& a, const Geometry& ga, const Pose& b, const Geometry& gb) {
+    if (!HeightsOverlap(a, ga, b, gb)) return false;
+    if (ga.shape == ShapeKind::kCylinder) return CircleOverlapsFootprint(a.position.head<2>(), ga.radius, b, gb);
+    if (gb.shape == ShapeKind::kCylinder) return CircleOverlapsFootprint(b.position.head<2>(), gb.radius, a, ga);
+    return RectsOverlap(RectOf(a, ga), RectOf(b, gb));
+  }
+  // Separating axis test on the four edge normals.
+  static bool RectsOverlap(const Rect& a, const Rect& b) {
+    const Vec2 axes[4] = {{a.cos_yaw, a.sin_yaw}, {-a.sin_yaw, a.cos_yaw}, {b.cos_yaw, b.sin_yaw}, {-b.sin_yaw, b.cos_yaw}};
+    for (const Vec2& axis : axes) {
+      auto extent = [&](const Rect& r) {
+        return r.half.x() * std::abs(axis.dot(Vec2(r.cos_yaw, r.sin_yaw))) +
+               r.half.y() * std::abs(axis.dot(Vec2(-r.sin_yaw, r.cos_yaw)));
+      };
+      if (std::abs(axis.dot(a.center - b.center)) >= extent(a) + extent(b)) return false;
+    }
+    return true;
+  }
+  int64_t Cell(double v) const { return static_cast<int64_t>(std::floor(v / cell_)); }
+  static uint64_t Key(int64_t x, int64_t y) { return (static_cast<uint64_t>(x) << 32) ^ static_cast<uint32_t>(y); }
+  double cell_;
+  std::vector<Item> items_;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+};
+
+// One stateless instance per registered entity type.
+const EntityType& EntityTypeInstance(const Registry<EntityType>::Entry* entry) {
+  static std::map<const void*, std::unique_ptr<EntityType>> types;
+  auto& type = types[entry];
+  if (!type) type = entry->create();
+  return *type;
+}
+
+}  // namespace
+
+class ExperimentLoader {
+ public:
+  ExperimentLoader(Simulation& sim, const ExperimentOptions& options) : sim_(sim), options_(options) {}
+
+  void Load();
+  // Builds one entity element (used at load and by Simulation::AddEntity).
+  EntityHandle BuildEntity(const ConfigNode& node, const Pose* placed, bool check_placement);
+
+ private:
+  ConfigContext& ctx() { return *sim_.context_; }
+  Diagnostics& diag() { return sim_.context_->diagnostics; }
+  void Parse();
+  void ReadFramework(const ConfigNode& root);
+  void ReadControllers(const ConfigNode& root);
+  void ReadEngines(const ConfigNode& root);
+  void ReadOptionalSections(const ConfigNode& root);
+  void ReadArena(const ConfigNode& root);
+  void ReadDistribute(const ConfigNode& node);
+  void ReadLoopFunctions(const ConfigNode& root);
+  void ReadOutput(const ConfigNode& root);
+  bool LoadLibraryAttribute(const ConfigNode& node);
+  bool ReadEntityDesc(const ConfigNode& node, const EntityType& type, EntityDesc& desc, bool needs_body);
+  std::string CheckPlacement(const EntityDesc& desc);
+
+  Simulation& sim_;
+  const ExperimentOptions& options_;
+  std::map<std::string, int> entity_lines_;
+  std::unique_ptr<PlacementIndex> placement_;
+};
+
+void ExperimentLoader::Parse() {
+  auto& doc = *sim_.document_;
+  const std::string& file = sim_.file_;
+  tinyxml2::XMLError err;
+  if (!options_.text.empty() || options_.file.empty()) {
+    err = doc.Parse(options_.text.c_str(), options_.text.size());
+  } else {
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec)) Fail(file, 0, "cannot open the experiment file: no such file");
+    if (std::filesystem::is_directory(file, ec)) Fail(file, 0, "cannot open the experiment file: it is a directory");
+    err = doc.LoadFile(file.c_str());
+  }
+  if (err == tinyxml2::XML_ERROR_EMPTY_DOCUMENT) Fail(file, 0, "the file is empty; expected an XML document with root <colony>");
+  if (err == tinyxml2::XML_ERROR_FILE_NOT_FOUND || err == tinyxml2::XML_ERROR_FILE_COULD_NOT_BE_OPENED ||
+      err == tinyxml2::XML_ERROR_FILE_READ_ERROR) {
+    Fail(file, 0, "cannot read the experiment file");
+  }
+  if (err == tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED) {
+    Fail(file, doc.ErrorLineNum(), "elements nested too deeply (over " + std::to_string(TINYXML2_MAX_ELEMENT_DEPTH) + " levels)");
+  }
+  if (err != tinyxml2::XML_SUCCESS) {
+    std::string detail = doc.ErrorStr();
+    Fail(file, doc.ErrorLineNum(), "not well-formed XML (" + std::string(doc.ErrorName()) + "): " + detail +
+                                       (err == tinyxml2::XML_ERROR_PARSING_ELEMENT || err == tinyxml2::XML_ERROR_MISMATCHED_ELEMENT
+                                            ? " (is the file truncated or an element left open?)"
+                                            : ""));
+  }
+  if (!doc.RootElement()) Fail(file, 0, "no root element; expected <colony>");
+  const std::string root = doc.RootElement()->Name();
+  if (root != "colony" && root != "argos-configuration") {
+    Fail(file, doc.RootElement()->GetLineNum(), "the root element is <" + root + ">; accepted: <colony> or <argos-configuration>");
+  }
+  for (const auto& o : options_.overrides) ApplyOverride(doc, o, file);
+}
+
+void ExperimentLoader::ReadFramework(const ConfigNode& root) {
+  const ConfigNode framework = root.Child("framework");
+  if (!framework.valid()) {
+    root.ElementError("missing <framework> (it holds <experiment length ticks_per_second random_seed>)");
+    return;
+  }
+  framework.CheckAttributes({});
+  framework.CheckChildren({"system", "experiment", "profiling"});
+  framework.CheckAtMostOne("system");
+  framework.CheckAtMostOne("experiment");
+  const ConfigNode system = framework.Child("system");
+  int threads = 0;
+  if (system.valid()) {
+    system.CheckAttributes({"threads", "method"});
+    threads = static_cast<int>(system.GetInt("threads", 0, 0, 256));
+  }
+  const ConfigNode experiment = framework.Child("experiment");
+  if (!experiment.valid()) {
+    framework.ElementError("missing <experiment length=\"seconds\" ticks_per_second=\"10\" random_seed=\"1\"/>");
+    return;
+  }
+  experiment.CheckAttributes({"length", "ticks_per_second", "random_seed", "real_time"});
+  const double length = experiment.GetDouble("length", 0, Range::NonNegative());
+  const double tps = experiment.GetDouble("ticks_per_second", 10, {0, 1e6, true});
+  const int64_t seed = experiment.GetInt("random_seed", 0, 0, INT64_MAX);
+  sim_.dt_ = 1.0 / tps;
+  sim_.length_ticks_ = static_cast<uint64_t>(std::llround(length * tps));
+  if (length > 0 && sim_.length_ticks_ == 0) sim_.length_ticks_ = 1;
+  sim_.seed_ = options_.seed ? *options_.seed : static_cast<uint64_t>(seed);
+  sim_.threads_ = options_.threads ? *options_.threads : threads;
+}
+
+bool ExperimentLoader::LoadLibraryAttribute(const ConfigNode& node) {
+  if (!node.Has("library")) return true;
+  const std::string spec = node.GetString("library", "");
+  const std::string base = std::filesystem::path(sim_.file_).parent_path().string();
+  const std::string error = LoadPluginLibrary(spec, base);
+  if (error.empty()) return true;
+  node.Error("library", spec, error);
+  return false;
+}
+
+template <class Base>
+static const typename Registry<Base>::Entry* FindPlugin(const ConfigNode& node, const std::string& what,
+                                                        const std::string& label, const std::string& impl) {
+  auto& registry = Registry<Base>::Get();
+  if (const auto* entry = registry.Find(label, impl)) return entry;
+  if (registry.Find(label)) {
+    node.Error("implementation", impl, "no implementation '" + impl + "' of " + what + " '" + label +
+                                           "'; accepted: " + Join(registry.Implementations(label)));
+    return nullptr;
+  }
+  std::string message = "unknown " + what + " '" + label + "'";
+  const std::string guess = DidYouMean(label, registry.Labels());
+  if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
+  auto labels = registry.Labels();
+  message += labels.empty() ? "; none is available in this build" : "; accepted: " + Join(labels);
+  node.ElementError(message);
+  return nullptr;
+}
+
+void ExperimentLoader::ReadControllers(const ConfigNode& root) {
+  const ConfigNode controllers = root.Child("controllers");
+  if (!controllers.valid()) return;
+  controllers.CheckAttributes({});
+  std::map<std::string, int> ids;
+  for (const ConfigNode& node : controllers.Children()) {
+    node.CheckAttributes({"id", "library"});
+    node.CheckChildren({"sensors", "actuators", "params"});
+    const std::string id = node.RequireString("id");
+    if (!id.empty()) {
+      if (ids.count(id)) {
+        node.Error("id", id, "controller id '" + id + "' already defined at line " + std::to_string(ids[id]));
+      }
+      ids[id] = node.line();
+    }
+    if (!LoadLibraryAttribute(node)) continue;
+    const auto* entry = FindPlugin<Controller>(node, "controller", node.name(), "default");
+    if (!entry) {
+      if (!node.Has("library")) {
+        auto d = Diagnostic{ctx().file, node.line(), node.Label(), "library", "",
+                            "hint: a controller built as a plugin is loaded with library=\"NAME or path\""};
+        diag().Add(d);
+      }
+      continue;
+    }
+    auto config = std::make_unique<Simulation::ControllerConfig>();
+    config->id = id;
+    config->label = node.name();
+    config->entry = entry;
+    config->node = node;
+    const ConfigNode params = node.Child("params");
+    node.CheckAtMostOne("params");
+    node.CheckAtMostOne("sensors");
+    node.CheckAtMostOne("actuators");
+    if (params.valid()) {
+      params.CheckChildren({});
+      config->params = params.ToParams();
+    }
+    for (const ConfigNode& s : node.Child("sensors").Children()) {
+      const std::string impl = s.GetString("implementation", "default");
+      const auto* e = FindPlugin<SensorSystem>(s, "sensor", s.name(), impl);
+      if (!e) continue;
+      auto names = e->info.AttributeNames();
+      names.push_back("implementation");
+      s.CheckAttributes(names);
+      auto system = e->create();
+      system->Bind(&sim_);
+      system->Configure(s);
+      config->sensor_labels.push_back(s.name());
+      config->sensors.push_back(system.get());
+      config->sensor_nodes.push_back(s);
+      sim_.sensor_systems_.push_back(std::move(system));
+    }
+    for (const ConfigNode& a : node.Child("actuators").Children()) {
+      const std::string impl = a.GetString("implementation", "default");
+      const auto* e = FindPlugin<ActuatorSystem>(a, "actuator", a.name(), impl);
+      if (!e) continue;
+      auto names = e->info.AttributeNames();
+      names.push_back("implementation");
+      a.CheckAttributes(names);
+      auto system = e->create();
+      system->Bind(&sim_);
+      system->Configure(a);
+      config->actuator_labels.push_back(a.name());
+      config->actuators.push_back(system.get());
+      config->actuator_nodes.push_back(a);
+      sim_.actuator_systems_.push_back(std::move(system));
+    }
+    sim_.controller_configs_.push_back(std::move(config));
+  }
+}
+
+void ExperimentLoader::ReadEngines(const ConfigNode& root) {
+  const ConfigNode engines = root.Child("physics_engines");
+  if (!engines.valid()) return;
+  engines.CheckAttributes({});
+  std::map<std::string, int> ids;
+  for (const ConfigNode& node : engines.Children()) {
+    const auto* entry = FindPlugin<PhysicsEngine>(node, "physics engine", node.name(), "default");
+    if (!entry) continue;
+    auto names = entry->info.AttributeNames();
+    names.push_back("id");
+    node.CheckAttributes(names);
+    const std::string id = node.RequireString("id");
+    if (ids.count(id)) node.Error("id", id, "engine id '" + id + "' already used at line " + std::to_string(ids[id]));
+    ids[id] = node.line();
+    auto engine = entry->create();
+    engine->Bind(&sim_, id, entry->info.label);
+    engine->Configure(node);
+    sim_.engines_.push_back(std::move(engine));
+  }
+}
+
+void ExperimentLoader::ReadOptionalSections(const ConfigNode& root) {
+  for (const char* section : {"media", "visualization"}) {
+    const ConfigNode node = root.Child(section);
+    if (!node.valid()) continue;
+    node.CheckAttributes({});
+    for (const ConfigNode& child : node.Children()) {
+      if (std::string(section) == "media") {
+        FindPlugin<Medium>(child, "medium", child.name(), "default");
+      } else {
+        FindPlugin<Renderer>(child, "renderer", child.name(), "default");
+      }
+    }
+  }
+}
+
+bool ExperimentLoader::ReadEntityDesc(const ConfigNode& node, const EntityType& type, EntityDesc& desc,
+                                      bool needs_body) {
+  Diagnostics& diagnostics = node.context().diagnostics;
+  const size_t before = diagnostics.size();
+  desc.init.id = node.RequireString("id");
+  type.Build(node, desc);
+  if (type.has_body()) {
+    node.CheckAtMostOne("body");
+    const ConfigNode body = node.Child("body");
+    if (body.valid()) {
+      body.CheckAttributes({"position", "orientation"});
+      body.CheckChildren({});
+      const auto p = body.RequireTriple("position");
+      const auto o = body.GetTriple("orientation", {0, 0, 0});
+      desc.init.pose.position = Vec3(p[0], p[1], p[2]);
+      desc.init.pose.orientation = FromEulerZYX(DegToRad(o[0]), DegToRad(o[1]), DegToRad(o[2]));
+    } else if (needs_body) {
+      node.ElementError("missing <body position=\"x,y,z\" orientation=\"yaw,pitch,roll\"/>");
+    }
+  }
+  if (type.is_robot()) {
+    node.CheckAtMostOne("controller");
+    const ConfigNode c = node.Child("controller");
+    if (!c.valid()) {
+      node.ElementError("missing <controller config=\"ID\"/> naming one of the <controllers>");
+    } else {
+      c.CheckAttributes({"config"});
+      c.CheckChildren({});
+      desc.controller = c.RequireString("config");
+      bool found = false;
+      std::vector<std::string> ids;
+      for (const auto& cfg : sim_.controller_configs_) {
+        ids.push_back(cfg->id);
+        found = found || cfg->id == desc.controller;
+      }
+      if (!found && !desc.controller.empty()) {
+        std::string message = "no controller with id '" + desc.controller + "' is defined in <controllers>";
+        const std::string guess = DidYouMean(desc.controller, ids);
+        if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
+        message += ids.empty() ? "" : "; defined: " + Join(ids);
+        c.Error("config", desc.controller, message);
+      }
+    }
+  }
+  std::vector<std::string> children;
+  if (type.has_body()) children.push_back("body");
+  if (type.is_robot()) children.push_back("controller");
+  node.CheckChildren(children);
+  return diagnostics.size() == before;
+}
+
+std::string ExperimentLoader::CheckPlacement(const EntityDesc& desc) {
+  const auto& init = desc.init;
+  if (init.geometry.shape == ShapeKind::kNone) return "";
+  const Vec2 half = FootprintHalfExtents(init.geometry, init.pose.orientation);
+  const Vec3& p = init.pose.position;
+  const Vec3& lo = sim_.space_.arena_min();
+  const Vec3& hi = sim_.space_.arena_max();
+  if (p.x() - half.x() < lo.x() - 1e-9 || p.x() + half.x() > hi.x() + 1e-9 || p.y() - half.y() < lo.y() - 1e-9 ||
+      p.y() + half.y() > hi.y() + 1e-9 || p.z() < lo.z() - 1e-9 || p.z() + init.geometry.height() > hi.z() + 1e-9) {
+    std::ostringstream s;
+    s << "is outside the arena: its footprint spans x [" << p.x() - half.x() << ", " << p.x() + half.x() << "], y ["
+      << p.y() - half.y() << ", " << p.y() + half.y() << "], z [" << p.z() << ", " << p.z() + init.geometry.height()
+      << "] but the arena spans x [" << lo.x() << ", " << hi.x() << "], y [" << lo.y() << ", " << hi.y() << "], z ["
+      << lo.z() << ", " << hi.z() << "]";
+    return s.str();
+  }
+  if (!(init.flags & kSolid)) return "";
+  // Non-movable things may touch each other (walls meet at corners);
+  // anything movable must start clear of everything.
+  if (init.flags & kMovable) {
+    if (const auto* other = placement_->FindOverlap(init.pose, init.geometry)) {
+      return "overlaps '" + other->id + "' (line " + std::to_string(other->line) + ")";
+    }
+  }
+  return "";
+}
+
+EntityHandle ExperimentLoader::BuildEntity(const ConfigNode& node, const Pose* placed, bool check_placement) {
+  const auto* entry = FindPlugin<EntityType>(node, "entity type", node.name(), "default");
+  if (!entry) return {};
+  const EntityType* type = &EntityTypeInstance(entry);
+  auto names = entry->info.AttributeNames();
+  names.push_back("id");
+  node.CheckAttributes(names);
+  EntityDesc desc;
+  if (!ReadEntityDesc(node, *type, desc, placed == nullptr)) return {};
+  if (placed) desc.init.pose = *placed;
+  const std::string& id = desc.init.id;
+  if (entity_lines_.count(id) || sim_.space_.Find(id).valid()) {
+    node.Error("id", id, "duplicate entity id '" + id + "'" +
+                             (entity_lines_.count(id) ? " (first defined at line " + std::to_string(entity_lines_[id]) + ")" : ""));
+    return {};
+  }
+  if (check_placement && placement_) {
+    const std::string problem = CheckPlacement(desc);
+    if (!problem.empty()) {
+      node.ElementError("entity '" + id + "' " + problem);
+      return {};
+    }
+  }
+  desc.init.type = sim_.space_.TypeId(entry->info.label);
+  if (sim_.entity_types_.size() <= desc.init.type) sim_.entity_types_.resize(desc.init.type + 1);
+  sim_.entity_types_[desc.init.type] = {type, desc.init.type};
+  // Physics models of this type, one per engine.
+  if (sim_.models_.size() <= desc.init.type) sim_.models_.resize(desc.init.type + 1);
+  auto& models = sim_.models_[desc.init.type];
+  if (models.size() != sim_.engines_.size()) {
+    models.assign(sim_.engines_.size(), nullptr);
+    for (size_t e = 0; e < sim_.engines_.size(); ++e) {
+      const std::string label = sim_.engines_[e]->label() + ":" + entry->info.label;
+      if (const auto* m = Registry<PhysicsModel>::Get().Find(label)) {
+        sim_.model_storage_.push_back(m->create());
+        models[e] = sim_.model_storage_.back().get();
+      }
+    }
+  }
+  if (desc.init.geometry.shape != ShapeKind::kNone) {
+    bool any = false;
+    for (const auto* m : models) any = any || m;
+    if (!any) {
+      std::vector<std::string> engines;
+      for (const auto& e : sim_.engines_) engines.push_back(e->label() + " '" + e->id() + "'");
+      node.ElementError(engines.empty()
+                            ? "entity '" + id + "' needs a physics engine, but <physics_engines> declares none; add e.g. <kinematics2d id=\"k2d\"/>"
+                            : "no physics engine of this experiment can simulate a '" + entry->info.label +
+                                  "' (engines: " + Join(engines) + "; no model registered for " +
+                                  sim_.engines_.front()->label() + ":" + entry->info.label + ")");
+      return {};
+    }
+  }
+  entity_lines_[id] = node.line();
+  if (check_placement && placement_ && (desc.init.flags & kSolid)) {
+    placement_->Insert(desc.init.pose, desc.init.geometry, id, node.line());
+  }
+  return sim_.Instantiate(desc, models.data(), node);
+}
+
+void ExperimentLoader::ReadDistribute(const ConfigNode& node) {
+  node.CheckAttributes({});
+  node.CheckChildren({"position", "orientation", "entity"});
+  for (const char* part : {"position", "orientation", "entity"}) {
+    node.CheckAtMostOne(part);
+    if (!node.Child(part).valid()) node.ElementError(std::string("missing <") + part + ">");
+  }
+  if (!diag().empty()) return;
+  struct Generator {
+    std::string method;
+    std::array<double, 3> a{}, b{};
+    std::vector<std::array<double, 3>> values;
+  };
+  auto read_generator = [&](const ConfigNode& g, Generator& out, bool degrees) {
+    const std::vector<std::string> methods = {"uniform", "gaussian", "constant", "grid"};
+    out.method = g.GetChoice("method", methods, "");
+    if (!g.Has("method")) g.Error("method", "", "required attribute is missing; accepted: uniform, gaussian, constant, grid");
+    if (out.method == "uniform") {
+      g.CheckAttributes({"method", "min", "max"});
+      out.a = g.RequireTriple("min");
+      out.b = g.RequireTriple("max");
+      for (int k = 0; k < 3; ++k)
+        if (out.a[k] > out.b[k]) g.Error("max", g.GetString("max", ""), "each component of max must be >= the same component of min");
+    } else if (out.method == "gaussian") {
+      g.CheckAttributes({"method", "mean", "std_dev"});
+      out.a = g.RequireTriple("mean");
+      out.b = g.RequireTriple("std_dev", Range::NonNegative());
+    } else if (out.method == "constant") {
+      g.CheckAttributes({"method", "values"});
+      out.a = g.RequireTriple("values");
+    } else if (out.method == "grid") {
+      g.CheckAttributes({"method", "center", "distances", "layout"});
+      out.a = g.RequireTriple("center");
+      out.b = g.RequireTriple("distances", Range::NonNegative());
+      const auto layout = g.RequireTriple("layout", Range::Between(1, 1e7));
+      // Grid cells, filled x fastest, then y, then z.
+      const int nx = static_cast<int>(layout[0]), ny = static_cast<int>(layout[1]), nz = static_cast<int>(layout[2]);
+      for (int z = 0; z < nz; ++z)
+        for (int y = 0; y < ny; ++y)
+          for (int x = 0; x < nx; ++x)
+            out.values.push_back({out.a[0] + (x - (nx - 1) / 2.0) * out.b[0], out.a[1] + (y - (ny - 1) / 2.0) * out.b[1],
+                                  out.a[2] + (z - (nz - 1) / 2.0) * out.b[2]});
+    }
+    if (degrees) {
+      for (auto* v : {&out.a, &out.b})
+        for (double& c : *v) c = DegToRad(c);
+      for (auto& v : out.values)
+        for (double& c : v) c = DegToRad(c);
+    }
+  };
+  const ConfigNode pos_node = node.Child("position"), ori_node = node.Child("orientation"), ent_node = node.Child("entity");
+  Generator pos, ori;
+  read_generator(pos_node, pos, false);
+  read_generator(ori_node, ori, true);
+  ent_node.CheckAttributes({"quantity", "max_trials", "base_num"});
+  const int64_t quantity = ent_node.RequireInt("quantity", 1, 10'000'000);
+  const int64_t max_trials = ent_node.GetInt("max_trials", 100, 1, 1'000'000);
+  const int64_t base_num = ent_node.GetInt("base_num", 0, 0, INT64_MAX);
+  const auto templates = ent_node.Children();
+  if (templates.size() != 1) ent_node.ElementError("must hold exactly one entity element (e.g. <marxbot id=\"mb\">), found " + std::to_string(templates.size()));
+  if (!diag().empty()) return;
+  if (pos.method == "grid" && static_cast<int64_t>(pos.values.size()) < quantity) {
+    pos_node.Error("layout", pos_node.GetString("layout", ""), "the grid has " + std::to_string(pos.values.size()) +
+                                                                    " places, fewer than quantity=" + std::to_string(quantity));
+    return;
+  }
+  const ConfigNode tmpl = templates.front();
+  const std::string base_id = tmpl.GetString("id", "");
+  RandomStream rng = RandomStream::For(sim_.seed_, "distribute", std::to_string(node.line()));
+  auto draw = [&](Generator& g, size_t index) -> Vec3 {
+    if (g.method == "uniform") return Vec3(rng.Uniform(g.a[0], g.b[0]), rng.Uniform(g.a[1], g.b[1]), rng.Uniform(g.a[2], g.b[2]));
+    if (g.method == "gaussian") return Vec3(rng.Gaussian(g.a[0], g.b[0]), rng.Gaussian(g.a[1], g.b[1]), rng.Gaussian(g.a[2], g.b[2]));
+    if (g.method == "grid") return Vec3(g.values[index][0], g.values[index][1], g.values[index][2]);
+    return Vec3(g.a[0], g.a[1], g.a[2]);
+  };
+  const auto* entry = FindPlugin<EntityType>(tmpl, "entity type", tmpl.name(), "default");
+  if (!entry) return;
+  const EntityType& type = EntityTypeInstance(entry);
+  // The template element is built once per entity under its numbered id.
+  auto* element = const_cast<tinyxml2::XMLElement*>(tmpl.element());
+  for (int64_t i = 0; i < quantity; ++i) {
+    const std::string id = base_id + std::to_string(base_num + i);
+    element->SetAttribute("id", id.c_str());
+    bool placed = false;
+    std::string last_problem;
+    for (int64_t trial = 0; trial < max_trials && !placed; ++trial) {
+      Pose pose;
+      pose.position = draw(pos, static_cast<size_t>(i));
+      const Vec3 o = draw(ori, static_cast<size_t>(i));
+      pose.orientation = FromEulerZYX(o[0], o[1], o[2]);
+      // Probe the footprint quietly; the real build below reports problems.
+      EntityDesc probe;
+      ConfigContext scratch{ctx().file, {}};
+      type.Build(ConfigNode(element, &scratch), probe);
+      probe.init.id = id;
+      probe.init.pose = pose;
+      last_problem = CheckPlacement(probe);
+      if (!last_problem.empty()) continue;
+      placed = true;
+      if (!BuildEntity(tmpl, &pose, true).valid()) {
+        element->SetAttribute("id", base_id.c_str());
+        return;
+      }
+    }
+    if (!placed) {
+      ent_node.Error("max_trials", std::to_string(max_trials),
+                     "could place only " + std::to_string(i) + " of " + std::to_string(quantity) + " entities: '" + id +
+                         "' found no free place in " + std::to_string(max_trials) + " trials (last try: it " +
+                         last_problem + "); enlarge the <position> range or the arena, lower quantity, or raise max_trials");
+      break;
+    }
+  }
+  element->SetAttribute("id", base_id.c_str());
+}
+
+void ExperimentLoader::ReadArena(const ConfigNode& root) {
+  const ConfigNode arena = root.Child("arena");
+  if (!arena.valid()) {
+    root.ElementError("missing <arena size=\"x,y,z\"> holding the robots and objects");
+    return;
+  }
+  std::vector<std::string> children = {"floor", "walls", "distribute"};
+  for (const auto& l : Registry<EntityType>::Get().Labels()) children.push_back(l);
+  arena.CheckAttributes({"size", "center", "positional_grid_size"});
+  arena.CheckChildren(children);
+  arena.CheckAtMostOne("floor");
+  arena.CheckAtMostOne("walls");
+  const auto size = arena.RequireTriple("size", Range::Positive());
+  const auto s = Vec3(size[0], size[1], size[2]);
+  const auto c = arena.GetTriple("center", {0, 0, size[2] / 2});
+  const Vec3 center(c[0], c[1], c[2]);
+  if (!diag().empty()) return;
+  sim_.space_.SetArena(center, s);
+  placement_ = std::make_unique<PlacementIndex>(0.5);
+  const Vec3 lo = center - 0.5 * s, hi = center + 0.5 * s;
+
+  if (const ConfigNode floor = arena.Child("floor"); floor.valid()) {
+    floor.CheckAttributes({"id", "color", "source", "path", "pixels_per_meter"});
+    floor.CheckChildren({});
+    const std::string source = floor.GetChoice("source", {"color", "image"}, floor.Has("path") ? "image" : "color");
+    sim_.space_.floor().SetColor(floor.GetColor("color", Color::White()));
+    if (source == "image") {
+      std::string path = floor.RequireString("path");
+      if (!path.empty()) {
+        std::filesystem::path p(path);
+        if (p.is_relative() && !sim_.file_.empty()) {
+          const auto rel = std::filesystem::path(sim_.file_).parent_path() / p;
+          std::error_code ec;
+          if (std::filesystem::exists(rel, ec)) p = rel;
+        }
+        const std::string error = sim_.space_.floor().LoadImage(p.string(), lo.x(), lo.y(), hi.x(), hi.y());
+        if (!error.empty()) floor.Error("path", path, error);
+      }
+    }
+  }
+  if (const ConfigNode walls = arena.Child("walls"); walls.valid()) {
+    walls.CheckAttributes({"thickness", "height", "color"});
+    walls.CheckChildren({});
+    const double t = walls.GetDouble("thickness", 0.1, Range::Positive());
+    const double h = walls.GetDouble("height", 0.5, Range::Positive());
+    const std::string color = walls.GetString("color", "gray50");
+    if (!ParseColor(color)) walls.Error("color", color, "'" + color + "' is not a colour; accepted: " + kColorAccepted);
+    if (2 * t >= std::min(s.x(), s.y())) walls.Error("thickness", std::to_string(t), "walls this thick leave no room inside the arena");
+    if (h > s.z()) walls.Error("height", std::to_string(h), "walls are taller than the arena");
+    if (!diag().empty()) return;
+    // Four boxes lining the inside of the arena's edges.
+    struct Side {
+      const char* id;
+      double x, y, sx, sy;
+    } sides[] = {
+        {"wall_north", center.x(), hi.y() - t / 2, s.x(), t},
+        {"wall_south", center.x(), lo.y() + t / 2, s.x(), t},
+        {"wall_east", hi.x() - t / 2, center.y(), t, s.y() - 2 * t},
+        {"wall_west", lo.x() + t / 2, center.y(), t, s.y() - 2 * t},
+    };
+    for (const auto& side : sides) {
+      auto* e = sim_.document_->NewElement("box");
+      e->SetAttribute("id", side.id);
+      const std::string sz = std::to_string(side.sx) + "," + std::to_string(side.sy) + "," + std::to_string(h);
+      e->SetAttribute("size", sz.c_str());
+      e->SetAttribute("movable", "false");
+      e->SetAttribute("color", color.c_str());
+      auto* body = e->InsertNewChildElement("body");
+      const std::string pos = std::to_string(side.x) + "," + std::to_string(side.y) + "," + std::to_string(lo.z());
+      body->SetAttribute("position", pos.c_str());
+      // Keep the walls' line for messages: parse it as if written there.
+      ConfigContext& context = ctx();
+      tinyxml2::XMLElement* parent = const_cast<tinyxml2::XMLElement*>(walls.element());
+      parent->InsertEndChild(e);
+      BuildEntity(ConfigNode(e, &context), nullptr, true);
+      parent->DeleteChild(e);
+    }
+  }
+  for (const ConfigNode& child : arena.Children()) {
+    const std::string n = child.name();
+    if (n == "floor" || n == "walls") continue;
+    if (n == "distribute") {
+      ReadDistribute(child);
+      continue;
+    }
+    if (Registry<EntityType>::Get().Find(n)) BuildEntity(child, nullptr, true);
+  }
+}
+
+void ExperimentLoader::ReadLoopFunctions(const ConfigNode& root) {
+  root.CheckAtMostOne("loop_functions");
+  const ConfigNode node = root.Child("loop_functions");
+  if (!node.valid()) return;
+  node.CheckChildren({"params"});
+  if (!LoadLibraryAttribute(node)) return;
+  const std::string label = node.RequireString("label");
+  if (label.empty()) return;
+  const auto* entry = Registry<LoopFunctions>::Get().Find(label);
+  if (!entry) {
+    std::string message = "unknown loop functions '" + label + "'";
+    const std::string guess = DidYouMean(label, Registry<LoopFunctions>::Get().Labels());
+    if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
+    const auto labels = Registry<LoopFunctions>::Get().Labels();
+    message += labels.empty() ? "; none is loaded (give library=\"...\")" : "; accepted: " + Join(labels);
+    node.Error("label", label, message);
+    return;
+  }
+  node.CheckAttributes({"library", "label"});
+  const ConfigNode params_node = node.Child("params");
+  Params params;
+  if (params_node.valid()) {
+    auto names = entry->info.AttributeNames();
+    params_node.CheckAttributes(names);
+    params = params_node.ToParams();
+  }
+  diag().ThrowIfAny();
+  auto lf = entry->create();
+  lf->Bind(&sim_);
+  try {
+    lf->Init(params);
+  } catch (const ParamError& e) {
+    params_node.Error(e.key(), e.value(), e.what());
+  }
+  sim_.loop_functions_.push_back(std::move(lf));
+}
+
+void ExperimentLoader::ReadOutput(const ConfigNode& root) {
+  root.CheckAtMostOne("output");
+  const ConfigNode node = root.Child("output");
+  if (!node.valid()) return;
+  node.CheckAttributes({"metrics_every", "hash_every"});
+  node.CheckChildren({});
+  sim_.output_.metrics_every = static_cast<uint64_t>(node.GetInt("metrics_every", 1, 0, INT64_MAX));
+  sim_.output_.hash_every = static_cast<uint64_t>(node.GetInt("hash_every", 0, 0, INT64_MAX));
+}
+
+void ExperimentLoader::Load() {
+  Parse();
+  const ConfigNode root(sim_.document_->RootElement(), &ctx());
+  root.CheckChildren(kTopLevel);
+  for (const auto& section : kTopLevel) root.CheckAtMostOne(section);
+  ReadFramework(root);
+  ReadOutput(root);
+  diag().ThrowIfAny();
+  ReadControllers(root);
+  ReadEngines(root);
+  ReadOptionalSections(root);
+  diag().ThrowIfAny();
+  sim_.pool_ = std::make_unique<ThreadPool>(sim_.threads_);
+  sim_.rng_ = RandomStream::For(sim_.seed_, "loop_functions", "");
+  ReadArena(root);
+  diag().ThrowIfAny();
+  ReadLoopFunctions(root);
+  diag().ThrowIfAny();
+  sim_.space_.UpdateIndex();
+  placement_.reset();
+}
+
+std::unique_ptr<Simulation> Simulation::Load(const ExperimentOptions& options) {
+  std::unique_ptr<Simulation> sim(new Simulation());
+  sim->file_ = options.file.empty() ? std::string("<string>") : options.file;
+  sim->context_ = std::make_unique<ConfigContext>();
+  sim->context_->file = sim->file_;
+  sim->document_ = std::make_unique<tinyxml2::XMLDocument>();
+  ExperimentLoader loader(*sim, options);
+  loader.Load();
+  return sim;
+}
+
+EntityHandle Simulation::AddEntity(const std::string& xml) {
+  tinyxml2::XMLDocument fragment;
+  if (fragment.Parse(xml.c_str()) != tinyxml2::XML_SUCCESS || !fragment.RootElement()) {
+    throw ConfigError("AddEntity: not well-formed XML: " + std::string(fragment.ErrorStr()));
+  }
+  auto* copy = fragment.RootElement()->DeepClone(document_.get())->ToElement();
+  document_->RootElement()->InsertEndChild(copy);
+  ConfigContext context{"<AddEntity>", {}};
+  ExperimentOptions none;
+  ExperimentLoader loader(*this, none);
+  const EntityHandle h = loader.BuildEntity(ConfigNode(copy, &context), nullptr, false);
+  document_->RootElement()->DeleteChild(copy);
+  context.diagnostics.ThrowIfAny();
+  space_.UpdateIndex();
+  return h;
+}
+
+std::string Simulation::ResolvedXml() const {
+  tinyxml2::XMLPrinter printer;
+  document_->Print(&printer);
+  return printer.CStr();
+}
+
+}  // namespace colony

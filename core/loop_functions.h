@@ -1,0 +1,33 @@
+// Loop functions (plugin kind "loop_functions"): experiment hooks run every
+// tick before and after sense + control, with access to the whole
+// simulation: metrics, spawning and removing entities, stop conditions.
+#pragma once
+
+#include "core/control_interface.h"
+#include "core/registry.h"
+
+namespace colony {
+
+class Simulation;
+
+class LoopFunctions {
+ public:
+  virtual ~LoopFunctions() = default;
+  // Called once after the arena is built, with the <loop_functions> params.
+  virtual void Init(const Params& params) { (void)params; }
+  virtual void PreStep() {}
+  virtual void PostStep() {}
+  // Ends the run early when true.
+  virtual bool IsExperimentFinished() { return false; }
+  virtual void Destroy() {}
+
+  void Bind(Simulation* sim) { sim_ = sim; }
+
+ protected:
+  Simulation& sim() const { return *sim_; }
+
+ private:
+  Simulation* sim_ = nullptr;
+};
+
+}  // namespace colony

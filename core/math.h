@@ -1,0 +1,49 @@
+// Geometry types of the core: Eigen vectors and quaternions, SI units
+// (metres, radians). Orientation in XML is given in degrees as "yaw,pitch,roll"
+// (the ARGoS convention: rotations about Z, then Y, then X).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cmath>
+
+namespace colony {
+
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+using Quat = Eigen::Quaterniond;
+
+inline double DegToRad(double d) { return d * M_PI / 180.0; }
+inline double RadToDeg(double r) { return r * 180.0 / M_PI; }
+
+// Rotation about Z of `q` (the heading of a robot on the floor), in (-pi, pi].
+inline double YawOf(const Quat& q) {
+  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()),
+                    1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
+}
+
+inline Quat FromYaw(double yaw) { return Quat(Eigen::AngleAxisd(yaw, Vec3::UnitZ())); }
+
+inline Quat FromEulerZYX(double yaw, double pitch, double roll) {
+  return Quat(Eigen::AngleAxisd(yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(pitch, Vec3::UnitY()) *
+              Eigen::AngleAxisd(roll, Vec3::UnitX()));
+}
+
+// Wraps an angle to (-pi, pi].
+inline double WrapAngle(double a) {
+  a = std::fmod(a + M_PI, 2.0 * M_PI);
+  if (a < 0) a += 2.0 * M_PI;
+  return a - M_PI;
+}
+
+struct Pose {
+  Vec3 position = Vec3::Zero();
+  Quat orientation = Quat::Identity();
+};
+
+struct Twist {
+  Vec3 linear = Vec3::Zero();   // m/s
+  Vec3 angular = Vec3::Zero();  // rad/s
+};
+
+}  // namespace colony

@@ -1,0 +1,107 @@
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+#include "core/control_interface.h"
+
+namespace colony {
+
+void Params::Set(std::string key, std::string value) {
+  for (auto& e : entries_) {
+    if (e.key == key) {
+      e.value = std::move(value);
+      return;
+    }
+  }
+  entries_.push_back({std::move(key), std::move(value)});
+}
+
+const Params::Entry* Params::Find(std::string_view key) const {
+  bool known = false;
+  for (const auto& k : asked_) known = known || k == key;
+  if (!known) asked_.emplace_back(key);
+  for (const auto& e : entries_) {
+    if (e.key == key) {
+      e.read = true;
+      return &e;
+    }
+  }
+  return nullptr;
+}
+
+bool Params::Has(std::string_view key) const { return Find(key) != nullptr; }
+
+std::string Params::GetString(std::string_view key, std::string_view fallback) const {
+  const Entry* e = Find(key);
+  return e ? e->value : std::string(fallback);
+}
+
+std::string Params::GetString(std::string_view key) const {
+  const Entry* e = Find(key);
+  if (!e) throw ParamError(std::string(key), "", "required parameter '" + std::string(key) + "' is missing");
+  return e->value;
+}
+
+static double ParseDouble(const std::string& key, const std::string& text, double min, double max) {
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(begin, &end);
+  while (end && *end == ' ') ++end;
+  if (text.empty() || end == begin || *end != '\0' || errno == ERANGE || !std::isfinite(v)) {
+    throw ParamError(key, text,
+                     "parameter '" + key + "': '" + text + "' is not a finite number");
+  }
+  if (v < min || v > max) {
+    throw ParamError(key, text,
+                     "parameter '" + key + "': " + text + " is out of range; accepted: [" +
+                         std::to_string(min) + ", " + std::to_string(max) + "]");
+  }
+  return v;
+}
+
+double Params::GetDouble(std::string_view key, double fallback, double min, double max) const {
+  const Entry* e = Find(key);
+  return e ? ParseDouble(e->key, e->value, min, max) : fallback;
+}
+
+double Params::GetDouble(std::string_view key) const {
+  return ParseDouble(std::string(key), GetString(key), -1e300, 1e300);
+}
+
+int64_t Params::GetInt(std::string_view key, int64_t fallback, int64_t min, int64_t max) const {
+  const Entry* e = Find(key);
+  if (!e) return fallback;
+  const char* begin = e->value.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(begin, &end, 10);
+  if (e->value.empty() || *end != '\0' || errno == ERANGE) {
+    throw ParamError(e->key, e->value,
+                     "parameter '" + e->key + "': '" + e->value + "' is not a whole number");
+  }
+  if (v < min || v > max) {
+    throw ParamError(e->key, e->value,
+                     "parameter '" + e->key + "': " + e->value + " is out of range; accepted: [" +
+                         std::to_string(min) + ", " + std::to_string(max) + "]");
+  }
+  return v;
+}
+
+bool Params::GetBool(std::string_view key, bool fallback) const {
+  const Entry* e = Find(key);
+  if (!e) return fallback;
+  if (e->value == "true" || e->value == "1") return true;
+  if (e->value == "false" || e->value == "0") return false;
+  throw ParamError(e->key, e->value,
+                   "parameter '" + e->key + "': '" + e->value + "' is not a boolean; accepted: true, false");
+}
+
+std::vector<std::string> Params::Unread() const {
+  std::vector<std::string> out;
+  for (const auto& e : entries_)
+    if (!e.read) out.push_back(e.key);
+  return out;
+}
+
+}  // namespace colony

@@ -1,0 +1,69 @@
+#include "core/plugin_loader.h"
+
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "core/config.h"
+#include "core/registry.h"
+
+#ifndef COLONY_INSTALL_PLUGIN_DIR
+#define COLONY_INSTALL_PLUGIN_DIR "/usr/local/lib/colony"
+#endif
+
+namespace colony {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> PluginSearchPath() {
+  std::vector<std::string> dirs;
+  if (const char* env = std::getenv("COLONY_PLUGIN_PATH")) {
+    for (const auto& d : SplitList(env, ':'))
+      if (!d.empty()) dirs.push_back(d);
+  }
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) dirs.push_back((exe.parent_path().parent_path() / "lib" / "colony").string());
+  dirs.push_back(COLONY_INSTALL_PLUGIN_DIR);
+  return dirs;
+}
+
+std::string LoadPluginLibrary(const std::string& spec, const std::string& base_dir) {
+  std::vector<std::string> candidates;
+  const bool has_dir = spec.find('/') != std::string::npos;
+  auto with_ext = [](const std::string& s) {
+    return s.size() > 3 && s.compare(s.size() - 3, 3, ".so") == 0 ? std::vector<std::string>{s}
+                                                                  : std::vector<std::string>{s + ".so", s};
+  };
+  if (has_dir) {
+    std::vector<std::string> bases = {spec};
+    if (!fs::path(spec).is_absolute() && !base_dir.empty()) bases.push_back((fs::path(base_dir) / spec).string());
+    for (const auto& b : bases)
+      for (const auto& c : with_ext(b)) candidates.push_back(c);
+  } else {
+    for (const auto& dir : PluginSearchPath()) {
+      for (const auto& c : with_ext((fs::path(dir) / ("lib" + spec)).string())) candidates.push_back(c);
+      for (const auto& c : with_ext((fs::path(dir) / spec).string())) candidates.push_back(c);
+    }
+  }
+  std::string tried;
+  for (const auto& c : candidates) {
+    std::error_code ec;
+    if (!fs::is_regular_file(c, ec)) {
+      tried += "\n    " + c + " (no such file)";
+      continue;
+    }
+    SetLoadingLibrary(c);
+    void* handle = dlopen(fs::absolute(c).c_str(), RTLD_NOW | RTLD_GLOBAL);
+    SetLoadingLibrary("");
+    if (handle) return "";  // kept open: registered factories live in it
+    tried += "\n    " + c + " (" + dlerror() + ")";
+  }
+  std::string message = "cannot load library '" + spec + "'; tried:" + tried;
+  if (!has_dir) message += "\n    (set COLONY_PLUGIN_PATH to add folders to the search path)";
+  return message;
+}
+
+}  // namespace colony

@@ -1,0 +1,240 @@
+#include "core/simulation.h"
+
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <mutex>
+
+namespace colony {
+
+void Metrics::Set(const std::string& name, double value) {
+  for (size_t i = 0; i < columns_.size(); ++i) {
+    if (columns_[i] == name) {
+      values_[i] = value;
+      return;
+    }
+  }
+  if (frozen_) {
+    throw std::logic_error("metric '" + name +
+                           "' was set for the first time after metrics.csv's header was written; "
+                           "set every metric from the first tick on");
+  }
+  columns_.push_back(name);
+  values_.push_back(value);
+}
+
+Simulation::Simulation() = default;
+
+Simulation::~Simulation() {
+  for (auto& lf : loop_functions_) lf->Destroy();
+  for (auto& r : robots_) {
+    if (r.alive && r.controller) r.controller->Destroy();
+  }
+}
+
+EntityHandle Simulation::Instantiate(const EntityDesc& desc, const PhysicsModel* const* models,
+                                     const ConfigNode& where) {
+  const EntityHandle h = space_.Add(desc.init);
+  if (engine_of_.size() < space_.slots()) {
+    engine_of_.resize(space_.slots(), -1);
+    robot_of_.resize(space_.slots(), -1);
+  }
+  engine_of_[h.index] = -1;
+  robot_of_[h.index] = -1;
+  if (desc.init.geometry.shape != ShapeKind::kNone) {
+    // A movable entity lives in exactly one engine; a fixed one in every
+    // engine that can simulate it.
+    for (size_t e = 0; e < engines_.size(); ++e) {
+      if (!models[e]) continue;
+      engines_[e]->AddEntity(h, *models[e]);
+      engine_of_[h.index] = static_cast<int16_t>(e);
+      if (desc.init.flags & kMovable) break;
+    }
+  }
+  if (!desc.controller.empty()) {
+    Robot& robot = robots_.emplace_back();
+    robot.entity = h;
+    robot.id = desc.init.id;
+    robot_of_[h.index] = static_cast<int32_t>(robots_.size() - 1);
+    for (auto& c : controller_configs_) {
+      if (c->id == desc.controller) robot.config = c.get();
+    }
+    AttachController(robot, where);
+    ++robot_count_;
+  }
+  return h;
+}
+
+void Simulation::AttachController(Robot& robot, const ConfigNode& where) {
+  ControllerConfig& config = *robot.config;
+  const auto* entry = static_cast<const Registry<Controller>::Entry*>(config.entry);
+  robot.controller = entry->create();
+  const size_t ns = config.sensors.size(), na = config.actuators.size();
+  robot.sensors = std::make_unique<Sensor*[]>(ns);
+  robot.actuators = std::make_unique<Actuator*[]>(na);
+  const std::string type = space_.TypeLabel(space_.type(robot.entity.index));
+  bool attached = true;
+  for (size_t i = 0; i < ns; ++i) {
+    try {
+      robot.sensors[i] = config.sensors[i]->Attach(
+          robot.entity, RandomStream::For(seed_, robot.id, "sensor/" + config.sensor_labels[i]));
+    } catch (const AttachError& e) {
+      config.sensor_nodes[i].ElementError("robot '" + robot.id + "' (a " + type + ", line " +
+                                          std::to_string(where.line()) +
+                                          ") cannot carry this sensor: " + e.what());
+      attached = false;
+    }
+  }
+  for (size_t i = 0; i < na; ++i) {
+    try {
+      robot.actuators[i] = config.actuators[i]->Attach(
+          robot.entity, RandomStream::For(seed_, robot.id, "actuator/" + config.actuator_labels[i]));
+    } catch (const AttachError& e) {
+      config.actuator_nodes[i].ElementError("robot '" + robot.id + "' (a " + type + ", line " +
+                                            std::to_string(where.line()) +
+                                            ") cannot carry this actuator: " + e.what());
+      attached = false;
+    }
+  }
+  if (!attached) {
+    context_->diagnostics.ThrowIfAny();
+  }
+  DeviceTable table;
+  table.robot_id = &robot.id;
+  table.sensor_labels = &config.sensor_labels;
+  table.sensors = robot.sensors.get();
+  table.actuator_labels = &config.actuator_labels;
+  table.actuators = robot.actuators.get();
+  robot.controller->Bind(table, RandomStream::For(seed_, robot.id, "controller"));
+  const ConfigNode params = config.node.Child("params");
+  const ConfigNode& at = params.valid() ? params : config.node;
+  try {
+    robot.controller->Init(config.params);
+  } catch (const ParamError& e) {
+    at.Error(e.key(), e.value(), e.what());
+    context_->diagnostics.ThrowIfAny();
+  } catch (const std::exception& e) {
+    config.node.ElementError("controller '" + config.label + "' failed to start on robot '" +
+                             robot.id + "': " + e.what());
+    context_->diagnostics.ThrowIfAny();
+  }
+  if (!config.params_checked) {
+    // Parameters the controller never read are typos or leftovers.
+    config.params_checked = true;
+    for (const auto& key : config.params.Unread()) {
+      std::string message = "parameter not read by controller '" + config.label + "'";
+      const std::string guess = DidYouMean(key, config.params.Asked());
+      if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
+      const auto& asked = config.params.Asked();
+      std::string list;
+      for (size_t i = 0; i < asked.size(); ++i) list += (i ? ", " : "") + asked[i];
+      if (!list.empty()) message += "; it reads: " + list;
+      at.Error(key, config.params.GetString(key, ""), message);
+    }
+    context_->diagnostics.ThrowIfAny();
+  }
+}
+
+void Simulation::RemoveEntity(EntityHandle entity) {
+  if (!space_.IsAlive(entity)) return;
+  const uint32_t slot = entity.index;
+  if (robot_of_[slot] >= 0) {
+    Robot& robot = robots_[robot_of_[slot]];
+    robot.controller->Destroy();
+    for (size_t i = 0; i < robot.config->sensors.size(); ++i) robot.config->sensors[i]->Detach(robot.sensors[i]);
+    for (size_t i = 0; i < robot.config->actuators.size(); ++i) robot.config->actuators[i]->Detach(robot.actuators[i]);
+    robot.controller.reset();
+    robot.alive = false;
+    robot_of_[slot] = -1;
+    --robot_count_;
+  }
+  if (space_.geometry(slot).shape != ShapeKind::kNone) {
+    const auto& models = models_[space_.type(slot)];
+    for (size_t e = 0; e < engines_.size(); ++e) {
+      const bool owner = space_.movable(slot) ? engine_of_[slot] == static_cast<int16_t>(e) : models[e] != nullptr;
+      if (owner) engines_[e]->RemoveEntity(entity);
+    }
+  }
+  engine_of_[slot] = -1;
+  space_.Remove(entity);
+}
+
+Controller* Simulation::ControllerOf(EntityHandle robot) const {
+  if (!space_.IsAlive(robot) || robot_of_[robot.index] < 0) return nullptr;
+  return robots_[robot_of_[robot.index]].controller.get();
+}
+
+const DeviceMounts& Simulation::MountsOf(EntityHandle entity) const {
+  return entity_types_[space_.type(entity.index)].first->mounts();
+}
+
+PhysicsEngine* Simulation::EngineOf(EntityHandle entity) const {
+  if (!space_.IsAlive(entity) || engine_of_[entity.index] < 0) return nullptr;
+  return engines_[engine_of_[entity.index]].get();
+}
+
+void Simulation::Act() {
+  for (auto& a : actuator_systems_) {
+    pool_->ParallelFor(a->size(), 256, [&](size_t b, size_t e) { a->Act(b, e); });
+  }
+}
+
+void Simulation::SenseAndControl() {
+  for (auto& s : sensor_systems_) {
+    pool_->ParallelFor(s->size(), 64, [&](size_t b, size_t e) { s->Update(b, e); });
+  }
+  // A controller that throws fails the run; the lowest robot index is
+  // reported so the message does not depend on scheduling.
+  std::mutex error_mutex;
+  size_t error_robot = SIZE_MAX;
+  std::string error_message;
+  pool_->ParallelFor(robots_.size(), 64, [&](size_t b, size_t e) {
+    for (size_t i = b; i < e; ++i) {
+      Robot& r = robots_[i];
+      if (!r.alive) continue;
+      try {
+        r.controller->ControlStep();
+      } catch (const std::exception& ex) {
+        std::lock_guard lock(error_mutex);
+        if (i < error_robot) {
+          error_robot = i;
+          error_message = ex.what();
+        }
+      }
+    }
+  });
+  if (error_robot != SIZE_MAX) {
+    throw RuntimeFailure("controller of robot '" + robots_[error_robot].id + "' failed at tick " +
+                         std::to_string(tick_ + 1) + ": " + error_message);
+  }
+}
+
+void Simulation::Step() {
+  // 1. act
+  Act();
+  // 2. physics, then the spatial index for sensors and the next tick
+  for (auto& engine : engines_) engine->Step(dt_);
+  space_.UpdateIndex();
+  // 3. media: none in this build yet
+  // 4. loop functions pre-step
+  for (auto& lf : loop_functions_) lf->PreStep();
+  if (space_.index_dirty()) space_.UpdateIndex();
+  // 5. sense + control
+  SenseAndControl();
+  ++tick_;
+  // 6. loop functions post-step and stop conditions
+  for (auto& lf : loop_functions_) lf->PostStep();
+  if (space_.index_dirty()) space_.UpdateIndex();
+  done_ = length_ticks_ > 0 && tick_ >= length_ticks_;
+  for (auto& lf : loop_functions_) done_ = lf->IsExperimentFinished() || done_;
+}
+
+uint64_t Simulation::StateHash() const {
+  StateHasher h;
+  h.AddU64(tick_);
+  space_.Hash(h);
+  for (const auto& s : sensor_systems_) s->Hash(h);
+  return h.value();
+}
+
+}  // namespace colony

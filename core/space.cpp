@@ -1,0 +1,238 @@
+#include "core/space.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace colony {
+
+std::string StateHasher::Hex(uint64_t v) {
+  char buffer[17];
+  std::snprintf(buffer, sizeof buffer, "%016llx", static_cast<unsigned long long>(v));
+  return buffer;
+}
+
+uint16_t Space::TypeId(const std::string& label) {
+  for (size_t i = 0; i < type_labels_.size(); ++i) {
+    if (type_labels_[i] == label) return static_cast<uint16_t>(i);
+  }
+  type_labels_.push_back(label);
+  by_type_.emplace_back();
+  return static_cast<uint16_t>(type_labels_.size() - 1);
+}
+
+const std::vector<uint32_t>& Space::OfType(uint16_t type) const {
+  static const std::vector<uint32_t> kNone;
+  return type < by_type_.size() ? by_type_[type] : kNone;
+}
+
+EntityHandle Space::Add(EntityInit init) {
+  uint32_t slot;
+  if (!free_slots_.empty()) {
+    slot = free_slots_.back();
+    free_slots_.pop_back();
+  } else {
+    slot = slots();
+    flags_.push_back(0);
+    generation_.push_back(0);
+    types_.push_back(0);
+    poses_.emplace_back();
+    twists_.emplace_back();
+    geometries_.emplace_back();
+    colors_.emplace_back();
+    contact_.push_back(0);
+    led_offset_.push_back(0);
+    led_count_.push_back(0);
+    drive_slot_.push_back(-1);
+    light_slot_.push_back(-1);
+    ids_.emplace_back();
+  }
+  flags_[slot] = static_cast<uint8_t>(init.flags | kAlive);
+  types_[slot] = init.type;
+  poses_[slot] = init.pose;
+  twists_[slot] = Twist{};
+  geometries_[slot] = init.geometry;
+  colors_[slot] = init.color;
+  contact_[slot] = 0;
+  led_offset_[slot] = static_cast<uint32_t>(leds_.size());
+  led_count_[slot] = static_cast<uint16_t>(init.led_count);
+  // A light shines in its own colour; other LEDs start off.
+  leds_.insert(leds_.end(), init.led_count, init.light_intensity > 0 ? init.color : Color::Black());
+  drive_slot_[slot] = -1;
+  if (init.has_drive) {
+    drive_slot_[slot] = static_cast<int32_t>(drives_.size());
+    drives_.push_back(init.drive);
+  }
+  light_slot_[slot] = -1;
+  if (init.light_intensity > 0) {
+    light_slot_[slot] = static_cast<int32_t>(lights_.size());
+    lights_.push_back({init.light_intensity});
+  }
+  ids_[slot] = init.id;
+  by_id_[init.id] = slot;
+  by_type_[init.type].push_back(slot);
+  ++alive_count_;
+  index_dirty_ = true;
+  if (!(init.flags & kMovable)) static_dirty_ = true;
+  if ((init.flags & kMovable) && (init.flags & kSolid)) {
+    max_movable_radius_ = std::max(max_movable_radius_, init.geometry.BoundingRadius());
+  }
+  return {slot, generation_[slot]};
+}
+
+void Space::Remove(EntityHandle h) {
+  if (!IsAlive(h)) return;
+  const uint32_t slot = h.index;
+  if (!movable(slot)) static_dirty_ = true;
+  flags_[slot] = 0;
+  ++generation_[slot];
+  by_id_.erase(ids_[slot]);
+  auto& list = by_type_[types_[slot]];
+  list.erase(std::find(list.begin(), list.end(), slot));
+  // Components stay allocated (their slots are not reused); LEDs are zeroed.
+  led_count_[slot] = 0;
+  drive_slot_[slot] = -1;
+  light_slot_[slot] = -1;
+  ids_[slot].clear();
+  free_slots_.push_back(slot);
+  --alive_count_;
+  index_dirty_ = true;
+}
+
+EntityHandle Space::Find(std::string_view id) const {
+  auto it = by_id_.find(std::string(id));
+  if (it == by_id_.end()) return {};
+  return HandleOf(it->second);
+}
+
+void Space::SetArena(const Vec3& center, const Vec3& size) {
+  arena_min_ = center - 0.5 * size;
+  arena_max_ = center + 0.5 * size;
+  index_dirty_ = static_dirty_ = true;
+}
+
+int Space::CellX(double x) const {
+  const int c = static_cast<int>((x - arena_min_.x()) * inv_cell_);
+  return std::clamp(c, 0, movable_grid_.nx - 1);
+}
+
+int Space::CellY(double y) const {
+  const int c = static_cast<int>((y - arena_min_.y()) * inv_cell_);
+  return std::clamp(c, 0, movable_grid_.ny - 1);
+}
+
+void Space::ConfigureGrid() {
+  // Cells of at least 0.5 m and at least one movable body across: a
+  // neighbour query then touches a handful of cells.
+  const double cell = std::max(0.5, 2.0 * max_movable_radius_);
+  const Vec3 extent = arena_max_ - arena_min_;
+  const int nx = std::max(1, static_cast<int>(std::ceil(extent.x() / cell)));
+  const int ny = std::max(1, static_cast<int>(std::ceil(extent.y() / cell)));
+  if (cell == cell_ && nx == movable_grid_.nx && ny == movable_grid_.ny) return;
+  cell_ = cell;
+  inv_cell_ = 1.0 / cell;
+  for (Grid* g : {&movable_grid_, &static_grid_}) {
+    g->nx = nx;
+    g->ny = ny;
+    g->start.assign(static_cast<size_t>(nx) * ny + 1, 0);
+  }
+  static_dirty_ = true;
+}
+
+void Space::BuildMovableGrid() {
+  Grid& g = movable_grid_;
+  const size_t cells = static_cast<size_t>(g.nx) * g.ny;
+  std::fill(g.start.begin(), g.start.end(), 0);
+  cell_scratch_.resize(slots());
+  const uint32_t n = slots();
+  // Counting sort of movable solid entities by the cell of their centre.
+  for (uint32_t i = 0; i < n; ++i) {
+    if ((flags_[i] & (kAlive | kMovable | kSolid)) != (kAlive | kMovable | kSolid)) {
+      cell_scratch_[i] = UINT32_MAX;
+      continue;
+    }
+    const Vec3& p = poses_[i].position;
+    const uint32_t c = static_cast<uint32_t>(CellY(p.y()) * g.nx + CellX(p.x()));
+    cell_scratch_[i] = c;
+    ++g.start[c + 1];
+  }
+  for (size_t c = 0; c < cells; ++c) g.start[c + 1] += g.start[c];
+  g.items.resize(g.start[cells]);
+  std::vector<uint32_t>& cursor = cell_cursor_;
+  cursor.assign(g.start.begin(), g.start.end() - 1);
+  for (uint32_t i = 0; i < n; ++i) {
+    if (cell_scratch_[i] != UINT32_MAX) g.items[cursor[cell_scratch_[i]]++] = i;
+  }
+}
+
+void Space::BuildStaticGrid() {
+  Grid& g = static_grid_;
+  const size_t cells = static_cast<size_t>(g.nx) * g.ny;
+  std::vector<std::vector<uint32_t>> per_cell(cells);
+  for (uint32_t i = 0; i < slots(); ++i) {
+    if ((flags_[i] & (kAlive | kMovable | kSolid)) != (kAlive | kSolid)) continue;
+    const Vec2 half = FootprintHalfExtents(geometries_[i], poses_[i].orientation);
+    const Vec3& p = poses_[i].position;
+    for (int cy = CellY(p.y() - half.y()); cy <= CellY(p.y() + half.y()); ++cy) {
+      for (int cx = CellX(p.x() - half.x()); cx <= CellX(p.x() + half.x()); ++cx) {
+        per_cell[static_cast<size_t>(cy) * g.nx + cx].push_back(i);
+      }
+    }
+  }
+  g.items.clear();
+  for (size_t c = 0; c < cells; ++c) {
+    g.start[c] = static_cast<uint32_t>(g.items.size());
+    g.items.insert(g.items.end(), per_cell[c].begin(), per_cell[c].end());
+  }
+  g.start[cells] = static_cast<uint32_t>(g.items.size());
+  static_dirty_ = false;
+}
+
+void Space::UpdateIndex() {
+  ConfigureGrid();
+  if (static_dirty_) BuildStaticGrid();
+  BuildMovableGrid();
+  index_dirty_ = false;
+}
+
+void Space::Gather(double x0, double y0, double x1, double y1, std::vector<uint32_t>& out) const {
+  // Movable entities are filed by centre: widen the query by their radius.
+  const double m = max_movable_radius_;
+  const int cx0 = CellX(x0 - m), cx1 = CellX(x1 + m);
+  const int cy0 = CellY(y0 - m), cy1 = CellY(y1 + m);
+  const Grid& g = movable_grid_;
+  for (int cy = cy0; cy <= cy1; ++cy) {
+    const size_t row = static_cast<size_t>(cy) * g.nx;
+    for (uint32_t k = g.start[row + cx0]; k < g.start[row + cx1 + 1]; ++k) out.push_back(g.items[k]);
+  }
+  // Non-movable ones may sit in several cells: keep each once.
+  const size_t first_static = out.size();
+  const Grid& s = static_grid_;
+  const int sx0 = CellX(x0), sx1 = CellX(x1), sy0 = CellY(y0), sy1 = CellY(y1);
+  for (int cy = sy0; cy <= sy1; ++cy) {
+    const size_t row = static_cast<size_t>(cy) * s.nx;
+    for (uint32_t k = s.start[row + sx0]; k < s.start[row + sx1 + 1]; ++k) {
+      const uint32_t e = s.items[k];
+      if (std::find(out.begin() + first_static, out.end(), e) == out.end()) out.push_back(e);
+    }
+  }
+}
+
+void Space::Hash(StateHasher& h) const {
+  for (uint32_t i = 0; i < slots(); ++i) {
+    if (!alive(i)) continue;
+    h.AddU64(i);
+    const Pose& p = poses_[i];
+    h.Add(p.position.data(), sizeof(double) * 3);
+    h.Add(p.orientation.coeffs().data(), sizeof(double) * 4);
+    const Twist& t = twists_[i];
+    h.Add(t.linear.data(), sizeof(double) * 3);
+    h.Add(t.angular.data(), sizeof(double) * 3);
+    if (led_count_[i]) h.Add(leds_.data() + led_offset_[i], sizeof(Color) * led_count_[i]);
+    if (const DriveState* d = drive(i)) {
+      const double v[4] = {d->target_left, d->target_right, d->left, d->right};
+      h.Add(v, sizeof v);
+    }
+  }
+}
+
+}  // namespace colony

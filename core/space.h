@@ -1,0 +1,219 @@
+// The space: the single source of truth for the state of the simulation at a
+// tick. Every entity (robot, wall, box, light...) lives in one slot; its hot
+// state sits in parallel arrays indexed by slot (structure of arrays), so the
+// engines and sensors that sweep over 100,000 robots read memory in order and
+// never chase pointers. Entities are addressed by id string (from XML) or by
+// an EntityHandle (slot + generation) that detects reuse of a freed slot.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "core/color.h"
+#include "core/floor.h"
+#include "core/math.h"
+#include "core/state_hash.h"
+
+namespace colony {
+
+struct EntityHandle {
+  static constexpr uint32_t kInvalid = 0xFFFFFFFFu;
+  uint32_t index = kInvalid;
+  uint32_t generation = 0;
+  bool valid() const { return index != kInvalid; }
+  friend bool operator==(const EntityHandle&, const EntityHandle&) = default;
+};
+
+enum class ShapeKind : uint8_t { kNone, kCylinder, kBox };
+
+// Collision shape, in the entity's frame; the body's origin is at the centre
+// of its base (z = bottom).
+struct Geometry {
+  ShapeKind shape = ShapeKind::kNone;
+  double radius = 0;         // cylinder radius (m)
+  Vec3 size = Vec3::Zero();  // box: full size x, y, z; cylinder: z is the height (m)
+  double height() const { return size.z(); }
+  // Radius of the smallest vertical cylinder around the origin holding the shape.
+  double BoundingRadius() const {
+    return shape == ShapeKind::kBox ? 0.5 * std::hypot(size.x(), size.y()) : radius;
+  }
+};
+
+// Half extents along x and y of the axis-aligned rectangle holding the
+// footprint of `g` turned by `orientation` about Z.
+inline Vec2 FootprintHalfExtents(const Geometry& g, const Quat& orientation) {
+  if (g.shape != ShapeKind::kBox) return Vec2(g.radius, g.radius);
+  const double yaw = YawOf(orientation);
+  const double c = std::abs(std::cos(yaw)), s = std::abs(std::sin(yaw));
+  return Vec2(0.5 * (c * g.size.x() + s * g.size.y()), 0.5 * (s * g.size.x() + c * g.size.y()));
+}
+
+// Per-entity flags.
+enum EntityFlag : uint8_t {
+  kAlive = 1,
+  kMovable = 2,  // can change pose (robots, movable objects)
+  kSolid = 4,    // takes part in collisions and blocks rays
+  kRobot = 8,    // carries a controller
+};
+
+// Differential drive of a wheeled robot: written by the steering actuator,
+// read by engines; engines write back what the wheels really did.
+struct DriveState {
+  double target_left = 0, target_right = 0;  // commanded wheel speeds (m/s)
+  double left = 0, right = 0;                // wheel speeds after acceleration limits (m/s)
+  double wheel_base = 0;                     // distance between the wheels (m)
+  double wheel_radius = 0;                   // m
+  double max_speed = 0;                      // m/s
+  double travelled_left = 0, travelled_right = 0;  // distance each wheel moved last tick (m)
+};
+
+// A point light seen by light sensors.
+struct LightSource {
+  double intensity = 0;
+};
+
+class Space {
+ public:
+  // What an entity is made of when it is added.
+  struct EntityInit {
+    std::string id;
+    uint16_t type = 0;
+    Pose pose;
+    Geometry geometry;
+    uint8_t flags = kSolid;
+    Color color = Color::White();
+    int led_count = 0;
+    bool has_drive = false;
+    DriveState drive;
+    double light_intensity = 0;  // > 0 makes it a light
+  };
+
+  // Entity types are registered once; their id is a small integer.
+  uint16_t TypeId(const std::string& label);
+  const std::string& TypeLabel(uint16_t type) const { return type_labels_[type]; }
+  size_t type_count() const { return type_labels_.size(); }
+
+  // Adds an entity; the id must be new (checked by the caller).
+  EntityHandle Add(EntityInit init);
+  void Remove(EntityHandle h);
+  bool IsAlive(EntityHandle h) const {
+    return h.index < generation_.size() && generation_[h.index] == h.generation &&
+           (flags_[h.index] & kAlive);
+  }
+  EntityHandle Find(std::string_view id) const;
+  EntityHandle HandleOf(uint32_t index) const { return {index, generation_[index]}; }
+
+  // Number of slots (alive or not); iterate 0..slots() and test alive().
+  uint32_t slots() const { return static_cast<uint32_t>(flags_.size()); }
+  size_t alive_count() const { return alive_count_; }
+  bool alive(uint32_t i) const { return flags_[i] & kAlive; }
+  uint8_t flags(uint32_t i) const { return flags_[i]; }
+  bool movable(uint32_t i) const { return flags_[i] & kMovable; }
+  const std::string& id(uint32_t i) const { return ids_[i]; }
+  uint16_t type(uint32_t i) const { return types_[i]; }
+  Pose& pose(uint32_t i) { return poses_[i]; }
+  const Pose& pose(uint32_t i) const { return poses_[i]; }
+  Twist& twist(uint32_t i) { return twists_[i]; }
+  const Twist& twist(uint32_t i) const { return twists_[i]; }
+  const Geometry& geometry(uint32_t i) const { return geometries_[i]; }
+  Color color(uint32_t i) const { return colors_[i]; }
+  // Set by engines when the entity touched something during the last tick.
+  bool in_contact(uint32_t i) const { return contact_[i]; }
+  void set_in_contact(uint32_t i, bool c) { contact_[i] = c; }
+
+  // LEDs of an entity (empty if it has none).
+  std::span<Color> leds(uint32_t i) {
+    return {leds_.data() + led_offset_[i], led_count_[i]};
+  }
+  std::span<const Color> leds(uint32_t i) const {
+    return {leds_.data() + led_offset_[i], led_count_[i]};
+  }
+  // Drive of a wheeled robot, or nullptr.
+  DriveState* drive(uint32_t i) { return drive_slot_[i] < 0 ? nullptr : &drives_[drive_slot_[i]]; }
+  const DriveState* drive(uint32_t i) const {
+    return drive_slot_[i] < 0 ? nullptr : &drives_[drive_slot_[i]];
+  }
+  const LightSource* light(uint32_t i) const {
+    return light_slot_[i] < 0 ? nullptr : &lights_[light_slot_[i]];
+  }
+  // Slots of the alive entities of one type, in the order they were added.
+  const std::vector<uint32_t>& OfType(uint16_t type) const;
+
+  // The arena: an axis-aligned box given by centre and size.
+  void SetArena(const Vec3& center, const Vec3& size);
+  const Vec3& arena_min() const { return arena_min_; }
+  const Vec3& arena_max() const { return arena_max_; }
+  Floor& floor() { return floor_; }
+  const Floor& floor() const { return floor_; }
+
+  // Rebuilds the spatial index from the current poses. Called once per tick
+  // after physics and whenever entities were added or removed.
+  void UpdateIndex();
+  bool index_dirty() const { return index_dirty_; }
+  // Appends to `out` every solid entity whose footprint may overlap the
+  // rectangle [x0, x1] x [y0, y1], each once, in slot order per grid cell.
+  void Gather(double x0, double y0, double x1, double y1, std::vector<uint32_t>& out) const;
+  // Largest bounding radius among movable solid entities (m).
+  double max_movable_radius() const { return max_movable_radius_; }
+  double cell_size() const { return cell_; }
+
+  // Hash of every alive entity's pose, velocity, LEDs and drive.
+  void Hash(StateHasher& h) const;
+
+ private:
+  struct Grid {
+    int nx = 0, ny = 0;
+    std::vector<uint32_t> start;  // nx*ny + 1 offsets into items
+    std::vector<uint32_t> items;  // entity slots, grouped by cell
+  };
+  void ConfigureGrid();
+  void BuildMovableGrid();
+  void BuildStaticGrid();
+  int CellX(double x) const;
+  int CellY(double y) const;
+
+  // Hot arrays, indexed by slot.
+  std::vector<uint8_t> flags_;
+  std::vector<uint32_t> generation_;
+  std::vector<uint16_t> types_;
+  std::vector<Pose> poses_;
+  std::vector<Twist> twists_;
+  std::vector<Geometry> geometries_;
+  std::vector<Color> colors_;
+  std::vector<uint8_t> contact_;
+  std::vector<uint32_t> led_offset_;
+  std::vector<uint16_t> led_count_;
+  std::vector<int32_t> drive_slot_;
+  std::vector<int32_t> light_slot_;
+  // Components, packed.
+  std::vector<Color> leds_;
+  std::vector<DriveState> drives_;
+  std::vector<LightSource> lights_;
+  // Cold data.
+  std::vector<std::string> ids_;
+  std::unordered_map<std::string, uint32_t> by_id_;
+  std::vector<std::vector<uint32_t>> by_type_;
+  std::vector<std::string> type_labels_;
+  std::vector<uint32_t> free_slots_;
+  size_t alive_count_ = 0;
+
+  Vec3 arena_min_ = Vec3(-1, -1, 0), arena_max_ = Vec3(1, 1, 1);
+  Floor floor_;
+
+  // Spatial index: movable entities by the cell of their centre (rebuilt
+  // every tick); non-movable ones in every cell their footprint touches
+  // (rebuilt only when they change).
+  double cell_ = 0.5, inv_cell_ = 2.0;
+  Grid movable_grid_, static_grid_;
+  bool index_dirty_ = true, static_dirty_ = true;
+  double max_movable_radius_ = 0;
+  std::vector<uint32_t> cell_scratch_;
+  std::vector<uint32_t> cell_cursor_;
+};
+
+}  // namespace colony

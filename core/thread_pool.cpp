@@ -1,0 +1,81 @@
+#include "core/thread_pool.h"
+
+#include <algorithm>
+
+namespace colony {
+
+ThreadPool::ThreadPool(int threads) : threads_(std::max(threads, 0)) {
+  for (int i = 1; i < threads_; ++i) workers_.emplace_back([this] { WorkerLoop(); });
+}
+
+ThreadPool::~ThreadPool() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  for (auto& w : workers_) w.join();
+}
+
+// Takes chunks until none is left; the mutex is held on entry and exit.
+void ThreadPool::RunChunks() {
+  std::unique_lock lock(mutex_, std::adopt_lock);
+  while (next_ < n_) {
+    const size_t begin = next_;
+    const size_t end = std::min(n_, begin + chunk_);
+    next_ = end;
+    ++pending_;
+    const auto* job = job_;
+    lock.unlock();
+    (*job)(begin, end);
+    lock.lock();
+    if (--pending_ == 0 && next_ >= n_) done_.notify_all();
+  }
+  lock.release();
+}
+
+void ThreadPool::WorkerLoop() {
+  uint64_t seen = 0;
+  mutex_.lock();
+  while (true) {
+    {
+      std::unique_lock lock(mutex_, std::adopt_lock);
+      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      lock.release();
+    }
+    if (stop_) {
+      mutex_.unlock();
+      return;
+    }
+    seen = generation_;
+    RunChunks();
+  }
+}
+
+void ThreadPool::ParallelFor(size_t n, size_t min_chunk,
+                             const std::function<void(size_t, size_t)>& fn) {
+  if (n == 0) return;
+  min_chunk = std::max<size_t>(min_chunk, 1);
+  if (workers_.empty() || n <= min_chunk) {
+    fn(0, n);
+    return;
+  }
+  // A few chunks per thread balances uneven work.
+  const size_t chunk = std::max(min_chunk, (n + threads_ * 4 - 1) / (threads_ * 4));
+  std::unique_lock lock(mutex_);
+  job_ = &fn;
+  n_ = n;
+  chunk_ = chunk;
+  next_ = 0;
+  pending_ = 0;
+  ++generation_;
+  wake_.notify_all();
+  lock.release();
+  RunChunks();
+  lock = std::unique_lock(mutex_, std::adopt_lock);
+  done_.wait(lock, [&] { return next_ >= n_ && pending_ == 0; });
+  job_ = nullptr;
+  n_ = 0;
+}
+
+}  // namespace colony

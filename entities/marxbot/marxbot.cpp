@@ -1,0 +1,48 @@
+#include "entities/marxbot/marxbot.h"
+
+#include "core/entity_type.h"
+
+namespace colony {
+namespace {
+
+class MarxbotType : public EntityType {
+ public:
+  MarxbotType() {
+    using namespace marxbot;
+    mounts_.rings["proximity"] = {kProximityCount, kBodyRadius, kProximityElevation, M_PI / kProximityCount,
+                                  kProximityRange};
+    mounts_.rings["ground"] = {kGroundCount, kGroundRadius, 0.0, 0.0, 0.0};
+    mounts_.rings["leds"] = {kRingLedCount, kLedRingRadius, kLedRingElevation, 0.0, 0.0};
+  }
+
+  void Build(const ConfigNode& node, EntityDesc& desc) const override {
+    using namespace marxbot;
+    auto& init = desc.init;
+    init.geometry.shape = ShapeKind::kCylinder;
+    init.geometry.radius = kBodyRadius;
+    init.geometry.size = Vec3(2 * kBodyRadius, 2 * kBodyRadius, kBodyHeight);
+    init.flags = kSolid | kMovable | kRobot;
+    init.color = node.GetColor("color", Color{60, 60, 60, 255});
+    init.led_count = kLedCount;
+    init.has_drive = true;
+    init.drive.wheel_base = kWheelBase;
+    init.drive.wheel_radius = kWheelRadius;
+    init.drive.max_speed = kMaxSpeed;
+    desc.mass = kMass;
+  }
+  bool is_robot() const override { return true; }
+  const DeviceMounts& mounts() const override { return mounts_; }
+
+ private:
+  DeviceMounts mounts_;
+};
+
+COLONY_REGISTER_ENTITY(
+    MarxbotType, "marxbot",
+    "the marXbot (foot-bot): 17 cm diameter, differential treels up to 0.3 m/s, 24 proximity "
+    "sensors, 8 ground sensors, 12 RGB LEDs + beacon; takes <body> and <controller config>",
+    (std::vector<AttributeDoc>{{"color", kColorAccepted, "60,60,60", "body colour"}}),
+    (std::vector<std::string>{"foot-bot"}));
+
+}  // namespace
+}  // namespace colony

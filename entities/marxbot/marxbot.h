@@ -1,0 +1,23 @@
+// The marXbot (foot-bot): figures from ../shared/ROBOTS.md.
+#pragma once
+
+namespace colony::marxbot {
+
+inline constexpr double kBodyRadius = 0.085;      // m
+inline constexpr double kBodyHeight = 0.147;      // m, base without the manipulator
+inline constexpr double kWheelBase = 0.14;        // m, between the treels
+inline constexpr double kWheelRadius = 0.029;     // m
+inline constexpr double kMaxSpeed = 0.30;         // m/s
+inline constexpr double kMass = 1.8;              // kg (for dynamics engines)
+
+inline constexpr int kProximityCount = 24;        // 15 degrees apart
+inline constexpr double kProximityElevation = 0.06;  // m above the floor
+inline constexpr double kProximityRange = 0.10;      // m from the body's surface
+inline constexpr int kGroundCount = 8;            // 45 degrees apart, under the base
+inline constexpr double kGroundRadius = 0.065;    // m from the axis
+inline constexpr int kRingLedCount = 12;          // RGB LEDs on the docking ring
+inline constexpr int kLedCount = kRingLedCount + 1;  // plus the beacon (last)
+inline constexpr double kLedRingRadius = 0.075;   // m
+inline constexpr double kLedRingElevation = 0.13; // m
+
+}  // namespace colony::marxbot

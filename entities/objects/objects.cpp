@@ -1,0 +1,92 @@
+// Passive things: box, cylinder, light.
+#include "core/entity_type.h"
+
+namespace colony {
+namespace {
+
+void ReadSolid(const ConfigNode& node, EntityDesc& desc, Color default_color) {
+  const bool movable = node.GetBool("movable", false);
+  desc.init.flags = movable ? (kSolid | kMovable) : kSolid;
+  desc.mass = node.GetDouble("mass", movable ? 1.0 : 0.0, Range::NonNegative());
+  if (movable && node.Has("mass") && desc.mass <= 0) {
+    node.Error("mass", node.GetString("mass", ""), "a movable object needs a mass > 0 (kg)");
+  }
+  desc.init.color = node.GetColor("color", default_color);
+}
+
+const std::vector<AttributeDoc> kSolidAttributes = {
+    {"movable", "true, false", "false", "whether engines may move it (kinematics2d never does)"},
+    {"mass", "a number >= 0 (kg)", "1 if movable", "mass for dynamics engines"},
+    {"color", kColorAccepted, "gray50 / gray70", "colour seen by cameras and renderers"},
+};
+
+class BoxType : public EntityType {
+ public:
+  void Build(const ConfigNode& node, EntityDesc& desc) const override {
+    const auto size = node.RequireTriple("size", Range::Positive());
+    desc.init.geometry.shape = ShapeKind::kBox;
+    desc.init.geometry.size = Vec3(size[0], size[1], size[2]);
+    desc.init.geometry.radius = desc.init.geometry.BoundingRadius();
+    ReadSolid(node, desc, Color{128, 128, 128, 255});
+  }
+};
+
+std::vector<AttributeDoc> BoxAttributes() {
+  std::vector<AttributeDoc> a = {{"size", "\"x,y,z\" > 0 (m)", "", "full size along x, y, z"}};
+  a.insert(a.end(), kSolidAttributes.begin(), kSolidAttributes.end());
+  return a;
+}
+
+COLONY_REGISTER_ENTITY(BoxType, "box", "a box: wall or obstacle, movable or not; takes <body>", BoxAttributes(),
+                       {});
+
+class CylinderType : public EntityType {
+ public:
+  void Build(const ConfigNode& node, EntityDesc& desc) const override {
+    const double radius = node.RequireDouble("radius", Range::Positive());
+    const double height = node.RequireDouble("height", Range::Positive());
+    desc.init.geometry.shape = ShapeKind::kCylinder;
+    desc.init.geometry.radius = radius;
+    desc.init.geometry.size = Vec3(2 * radius, 2 * radius, height);
+    ReadSolid(node, desc, Color{179, 179, 179, 255});
+  }
+};
+
+std::vector<AttributeDoc> CylinderAttributes() {
+  std::vector<AttributeDoc> a = {{"radius", "a number > 0 (m)", "", "radius"},
+                                 {"height", "a number > 0 (m)", "", "height"}};
+  a.insert(a.end(), kSolidAttributes.begin(), kSolidAttributes.end());
+  return a;
+}
+
+COLONY_REGISTER_ENTITY(CylinderType, "cylinder", "an upright cylinder: obstacle, movable or not; takes <body>",
+                       CylinderAttributes(), {});
+
+class LightType : public EntityType {
+ public:
+  void Build(const ConfigNode& node, EntityDesc& desc) const override {
+    const auto p = node.RequireTriple("position");
+    const auto o = node.GetTriple("orientation", {0, 0, 0});
+    desc.init.pose.position = Vec3(p[0], p[1], p[2]);
+    desc.init.pose.orientation = FromEulerZYX(DegToRad(o[0]), DegToRad(o[1]), DegToRad(o[2]));
+    desc.init.flags = 0;  // not solid: nothing collides with it
+    desc.init.color = node.GetColor("color", Color{255, 255, 0, 255});
+    desc.init.light_intensity = node.GetDouble("intensity", 1.0, Range::Positive());
+    desc.init.led_count = 1;
+    node.GetString("medium", "");
+  }
+  bool has_body() const override { return false; }
+};
+
+COLONY_REGISTER_ENTITY(LightType, "light", "a point light that light sensors see; not solid",
+                       (std::vector<AttributeDoc>{
+                           {"position", "\"x,y,z\" (m)", "", "where the light is"},
+                           {"orientation", "\"yaw,pitch,roll\" (degrees)", "0,0,0", "direction (unused by point lights)"},
+                           {"color", kColorAccepted, "yellow", "colour of the light"},
+                           {"intensity", "a number > 0", "1", "relative intensity"},
+                           {"medium", "a medium id", "", "accepted for ARGoS files; unused"},
+                       }),
+                       {});
+
+}  // namespace
+}  // namespace colony

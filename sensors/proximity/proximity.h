@@ -1,0 +1,24 @@
+// Proximity sensors (control interface): a ring of short-range IR sensors.
+// On the marXbot: 24 sensors, 15 degrees apart, 6 cm above the floor.
+#pragma once
+
+#include <vector>
+
+#include "core/control_interface.h"
+
+namespace colony {
+
+class ProximitySensor : public Sensor {
+ public:
+  struct Reading {
+    float value;  // 0: nothing in range; rises as an object nears; 1: touching (within 1 cm)
+    float angle;  // direction of the sensor in the robot's frame, counter-clockwise from the front (rad)
+  };
+  // One reading per sensor, in ring order.
+  const std::vector<Reading>& readings() const { return readings_; }
+
+ protected:
+  std::vector<Reading> readings_;
+};
+
+}  // namespace colony
