@@ -1,0 +1,45 @@
+// Helpers for tests that build small experiments from inline XML.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/simulation.h"
+
+namespace colony::testing {
+
+// An experiment around `arena_body` (entities inside <arena>), with the given
+// <controllers> content, in an arena of `size` centred on the origin.
+inline std::string Experiment(const std::string& arena_body, const std::string& controllers = "",
+                              const std::string& arena_size = "4,4,1", const std::string& extra = "",
+                              const std::string& engines = "<kinematics2d id=\"k2d\"/>") {
+  return "<colony><framework><experiment length=\"10\" ticks_per_second=\"10\" random_seed=\"7\"/></framework>"
+         "<controllers>" + controllers + "</controllers>"
+         "<arena size=\"" + arena_size + "\" center=\"0,0,0.5\">" + arena_body + "</arena>"
+         "<physics_engines>" + engines + "</physics_engines>" + extra + "</colony>";
+}
+
+inline std::unique_ptr<Simulation> LoadXml(const std::string& xml, std::vector<std::string> overrides = {},
+                                           std::optional<int> threads = std::nullopt) {
+  ExperimentOptions options;
+  options.text = xml;
+  options.overrides = std::move(overrides);
+  options.threads = threads;
+  return Simulation::Load(options);
+}
+
+// The message of the ConfigError loading `xml` raises, or "" if it loads.
+inline std::string LoadError(const std::string& xml, std::vector<std::string> overrides = {}) {
+  try {
+    LoadXml(xml, std::move(overrides));
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace colony::testing
