@@ -1,7 +1,10 @@
 // Diffusion: the classic first swarm controller. Drive straight while the
 // proximity readings, summed as vectors, point within +-alpha of the heading
-// and stay shorter than delta; otherwise turn on the spot away from the side
-// the obstacle is on.
+// and stay shorter than delta; otherwise turn on the spot (wheels at +v and
+// -v) away from the side the obstacle is on. Turning on the spot rather than
+// about one wheel keeps the body from swinging into what it is avoiding; a
+// robot whose obstacles are all behind it (|angle| > 90 degrees) drives on,
+// away from them, instead of spinning in front of them.
 #include <cmath>
 
 #include "actuators/differential_steering/differential_steering.h"
@@ -33,12 +36,13 @@ class Diffusion : public colony::Controller {
     }
     const double angle = std::atan2(y, x);
     const double length = std::hypot(x, y);
-    if (std::abs(angle) <= alpha_ && length < delta_) {
+    const bool clear_ahead = std::abs(angle) <= alpha_ && length < delta_;
+    if (clear_ahead || std::abs(angle) > M_PI / 2) {
       wheels_->SetLinearVelocity(velocity_, velocity_);
     } else if (angle > 0) {
-      wheels_->SetLinearVelocity(velocity_, 0);  // obstacle on the left: turn right
+      wheels_->SetLinearVelocity(velocity_, -velocity_);  // obstacle on the left: turn right
     } else {
-      wheels_->SetLinearVelocity(0, velocity_);  // obstacle on the right: turn left
+      wheels_->SetLinearVelocity(-velocity_, velocity_);  // obstacle on the right: turn left
     }
   }
 
