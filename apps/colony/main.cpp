@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/log.h"
 #include "core/output.h"
 #include "core/plugin_loader.h"
 #include "core/registry.h"
@@ -115,6 +116,7 @@ int Run(const std::vector<std::string>& args) {
     }
   }
   if (options.file.empty()) throw UsageError("colony run needs an experiment file");
+  if (quiet) colony::SetLogLevel(colony::LogLevel::kError);
 
   const auto t0 = std::chrono::steady_clock::now();
   auto sim = colony::Simulation::Load(options);
@@ -140,7 +142,9 @@ void LoadAllPlugins() {
   for (const auto& dir : colony::PluginSearchPath()) {
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
-      if (entry.path().extension() == ".so") colony::LoadPluginLibrary(entry.path().string(), "");
+      if (entry.path().extension() != ".so") continue;
+      const std::string error = colony::LoadPluginLibrary(entry.path().string(), "");
+      if (!error.empty()) colony::LogWarning(error);
     }
   }
 }
