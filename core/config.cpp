@@ -26,12 +26,21 @@ std::string JoinQuoted(const std::vector<std::string>& items) {
   return out;
 }
 
+// "a whole number in [0, 256]", or "a whole number >= 0" when unbounded above.
+std::string DescribeWholeRange(int64_t min, int64_t max) {
+  if (max == std::numeric_limits<int64_t>::max()) return "a whole number >= " + std::to_string(min);
+  return "a whole number in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+}
+
 }  // namespace
 
 std::string Range::Describe() const {
   const bool has_min = min > -std::numeric_limits<double>::max();
   const bool has_max = max < std::numeric_limits<double>::max();
-  if (has_min && has_max) return "a number in [" + FormatNumber(min) + ", " + FormatNumber(max) + "]";
+  if (has_min && has_max) {
+    return std::string("a number in ") + (min_exclusive ? "(" : "[") + FormatNumber(min) + ", " +
+           FormatNumber(max) + "]";
+  }
   if (has_min) return std::string("a number ") + (min_exclusive ? "> " : ">= ") + FormatNumber(min);
   if (has_max) return "a number <= " + FormatNumber(max);
   return "a finite number";
@@ -148,11 +157,14 @@ int64_t ConfigNode::GetInt(std::string_view attribute, int64_t fallback, int64_t
                            int64_t max) const {
   const char* raw = Raw(attribute);
   if (!raw) return fallback;
-  const std::string accepted = "a whole number in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+  const std::string accepted = DescribeWholeRange(min, max);
+  const char* begin = raw;
+  while (*begin == ' ') ++begin;
   char* end = nullptr;
   errno = 0;
-  const long long v = std::strtoll(raw, &end, 10);
-  if (*raw == '\0' || *end != '\0' || errno == ERANGE) {
+  const long long v = std::strtoll(begin, &end, 10);
+  while (end != begin && *end == ' ') ++end;
+  if (*begin == '\0' || end == begin || *end != '\0' || errno == ERANGE) {
     Error(attribute, raw, "'" + std::string(raw) + "' is not a whole number; accepted: " + accepted);
     return fallback;
   }
@@ -165,8 +177,7 @@ int64_t ConfigNode::GetInt(std::string_view attribute, int64_t fallback, int64_t
 
 int64_t ConfigNode::RequireInt(std::string_view attribute, int64_t min, int64_t max) const {
   if (!Has(attribute)) {
-    Error(attribute, "", "required attribute is missing; accepted: a whole number in [" +
-                             std::to_string(min) + ", " + std::to_string(max) + "]");
+    Error(attribute, "", "required attribute is missing; accepted: " + DescribeWholeRange(min, max));
     return min;
   }
   return GetInt(attribute, min, min, max);

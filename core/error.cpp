@@ -43,15 +43,21 @@ void Diagnostics::ThrowIfAny() {
   throw ConfigError(std::move(items));
 }
 
+// Optimal string alignment distance: an insertion, a deletion, a
+// substitution or a swap of neighbours ("lenght") each count 1.
 static size_t EditDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+  std::vector<size_t> before(b.size() + 1), prev(b.size() + 1), cur(b.size() + 1);
   for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
   for (size_t i = 1; i <= a.size(); ++i) {
     cur[0] = i;
     for (size_t j = 1; j <= b.size(); ++j) {
       const size_t subst = prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
       cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, subst});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+        cur[j] = std::min(cur[j], before[j - 2] + 1);
+      }
     }
+    before.swap(prev);
     prev.swap(cur);
   }
   return prev[b.size()];
@@ -62,6 +68,8 @@ std::string DidYouMean(const std::string& word, const std::vector<std::string>& 
   size_t best_distance = std::max<size_t>(2, word.size() / 3) + 1;
   for (const auto& c : candidates) {
     const size_t d = EditDistance(word, c);
+    // Replacing every character is no typo ("b" is not a misspelt "a").
+    if (d >= std::max(word.size(), c.size())) continue;
     if (d < best_distance) {
       best_distance = d;
       best = c;

@@ -2,7 +2,10 @@
 #include <tinyxml2.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <unordered_map>
@@ -19,14 +22,147 @@ const std::vector<std::string> kTopLevel = {"framework",       "controllers", "l
                                             "arena",           "physics_engines", "media",
                                             "visualization",   "output"};
 
+std::string FormatNumber(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
 std::string Join(const std::vector<std::string>& items) {
   std::string out;
   for (size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + items[i];
   return out;
 }
 
+// Whether `parent` holds a misspelling of `name`, already reported as an
+// unknown element (so "missing <name>" would only repeat it).
+bool HasMisspelt(const ConfigNode& parent, const std::string& name) {
+  for (const ConfigNode& child : parent.Children()) {
+    if (child.name() != name && DidYouMean(child.name(), {name}) == name) return true;
+  }
+  return false;
+}
+
 [[noreturn]] void Fail(const std::string& file, int line, const std::string& message) {
   throw ConfigError(std::vector<Diagnostic>{Diagnostic{file, line, "", "", "", message}});
+}
+
+// The elements still open where `text` ends, outermost first (a best-effort
+// scan, used only to explain why a document failed to parse).
+struct OpenElement {
+  std::string name;
+  int line = 0;
+};
+std::vector<OpenElement> OpenElementsAtEnd(const std::string& text) {
+  std::vector<OpenElement> open;
+  int line = 1;
+  size_t i = 0;
+  auto skip_past = [&](const char* terminator) {
+    const size_t k = text.find(terminator, i);
+    const size_t stop = k == std::string::npos ? text.size() : k + std::strlen(terminator);
+    line += static_cast<int>(std::count(text.begin() + i, text.begin() + stop, '\n'));
+    i = stop;
+  };
+  while (i < text.size()) {
+    if (text[i] != '<') {
+      if (text[i] == '\n') ++line;
+      ++i;
+      continue;
+    }
+    if (text.compare(i, 4, "<!--") == 0) {
+      skip_past("-->");
+    } else if (text.compare(i, 9, "<![CDATA[") == 0) {
+      skip_past("]]>");
+    } else if (text.compare(i, 2, "<?") == 0) {
+      skip_past("?>");
+    } else if (text.compare(i, 2, "<!") == 0) {
+      skip_past(">");
+    } else {
+      const int tag_line = line;
+      const bool closing = text.compare(i, 2, "</") == 0;
+      size_t k = i + (closing ? 2 : 1);
+      const size_t name_begin = k;
+      while (k < text.size() && !std::isspace(static_cast<unsigned char>(text[k])) && text[k] != '>' &&
+             text[k] != '/') {
+        ++k;
+      }
+      const std::string name = text.substr(name_begin, k - name_begin);
+      char quote = 0;
+      for (; k < text.size() && (quote || text[k] != '>'); ++k) {
+        if (text[k] == '\n') ++line;
+        if (quote) {
+          if (text[k] == quote) quote = 0;
+        } else if (text[k] == '"' || text[k] == '\'') {
+          quote = text[k];
+        }
+      }
+      const bool self_closing = k < text.size() && text[k - 1] == '/';
+      if (closing) {
+        if (!open.empty()) open.pop_back();
+      } else if (!self_closing) {
+        open.push_back({name, tag_line});
+      }
+      i = k + 1;
+    }
+  }
+  return open;
+}
+
+// Explains a failed parse of `text` as one diagnostic.
+[[noreturn]] void FailXml(const tinyxml2::XMLDocument& doc, tinyxml2::XMLError err, const std::string& text,
+                          const std::string& file) {
+  // tinyxml2 names the element it was reading as "... name=NAME".
+  const std::string detail = doc.ErrorStr() ? doc.ErrorStr() : "";
+  const size_t at = detail.find("name=");
+  const std::string element = at == std::string::npos ? "" : detail.substr(at + 5);
+  const auto open = OpenElementsAtEnd(text);
+  std::string truncated;
+  int line = doc.ErrorLineNum();
+  if (!open.empty()) {
+    const OpenElement& last = open.back();
+    truncated = "the file ends inside <" + last.name + "> (line " + std::to_string(last.line) +
+                "), which is never closed with </" + last.name + ">; is the file truncated?";
+  }
+  std::string message;
+  switch (err) {
+    case tinyxml2::XML_ERROR_PARSING_TEXT:
+      if (text.find('<') == std::string::npos) {
+        Fail(file, 1, "this is not XML: an experiment file is an XML document with root element <colony>");
+      } else {
+        message = truncated.empty() ? "text runs to the end of the file" : truncated;
+      }
+      break;
+    case tinyxml2::XML_ERROR_PARSING:
+      if (!truncated.empty()) line = open.back().line;
+      message = truncated.empty() ? "the document ends unexpectedly; is the file truncated?" : truncated;
+      break;
+    case tinyxml2::XML_ERROR_PARSING_ELEMENT:
+      message = (element.empty() ? "a tag" : "the tag <" + element + ">") +
+                " is malformed or unfinished; accepted: <name attribute=\"value\" ...> or <name .../>";
+      break;
+    case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT:
+      message = "<" + element + "> is not closed by a matching </" + element + ">";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE:
+      message = "malformed or repeated attribute" + (element.empty() ? "" : " in <" + element + ">") +
+                "; accepted: name=\"value\" with the value in quotes, each attribute once";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_COMMENT:
+      message = "a comment is not closed: it starts with <!-- and must end with -->";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_CDATA:
+      message = "a <![CDATA[ section is not closed with ]]>";
+      break;
+    case tinyxml2::XML_ERROR_PARSING_DECLARATION:
+      message = "malformed declaration; accepted: <?xml version=\"1.0\"?> at the very start of the file";
+      break;
+    default:
+      message = std::string(doc.ErrorName()) + (detail.empty() ? "" : ": " + detail);
+  }
+  if (err != tinyxml2::XML_ERROR_PARSING && !truncated.empty() && message.find(truncated) == std::string::npos) {
+    message += "; " + truncated;
+  }
+  Fail(file, line, "not well-formed XML: " + message);
 }
 
 // Applies one "--set a.b[id].c=value" to the document. Path segments are
@@ -45,6 +181,11 @@ void ApplyOverride(tinyxml2::XMLDocument& doc, const std::string& spec, const st
   if (segments.size() < 2) {
     throw ConfigError("--set '" + spec + "': the path needs at least an element and an attribute, e.g. framework.experiment.length=10");
   }
+  for (const auto& segment : segments) {
+    if (segment.empty()) {
+      throw ConfigError("--set '" + spec + "': empty name in the path; accepted: element.element[id].attribute=value, e.g. framework.experiment.length=10");
+    }
+  }
   for (size_t i = 0; i + 1 < segments.size(); ++i) {
     std::string name = segments[i], id;
     const size_t bracket = name.find('[');
@@ -56,16 +197,18 @@ void ApplyOverride(tinyxml2::XMLDocument& doc, const std::string& spec, const st
     std::vector<tinyxml2::XMLElement*> matches;
     std::vector<std::string> names;
     for (auto* c = element->FirstChildElement(); c; c = c->NextSiblingElement()) {
-      names.push_back(c->Name());
+      if (std::find(names.begin(), names.end(), c->Name()) == names.end()) names.push_back(c->Name());
       if (name != c->Name()) continue;
       if (!id.empty() && (!c->Attribute("id") || id != c->Attribute("id"))) continue;
       matches.push_back(c);
     }
     if (matches.empty()) {
       std::string message = "--set '" + spec + "': no element <" + segments[i] + "> inside <" +
-                            element->Name() + "> (line " + std::to_string(element->GetLineNum()) + ")";
+                            element->Name() + ">";
       const std::string guess = DidYouMean(name, names);
-      if (!guess.empty() && guess != name) message += "; did you mean '" + guess + "'?";
+      if (!guess.empty() && guess != name) message += " (did you mean '" + guess + "'?)";
+      message += names.empty() ? std::string("; it has no child elements")
+                               : "; it holds: " + Join(names);
       throw ConfigError(std::vector<Diagnostic>{Diagnostic{file, element->GetLineNum(), "", "", path, message}});
     }
     if (matches.size() > 1) {
@@ -86,9 +229,11 @@ class PlacementIndex {
     Geometry geometry;
     std::string id;
     int line;
+    bool movable;
   };
-  // The id of a placed solid footprint overlapping `pose`/`g`, or nullptr.
-  const Item* FindOverlap(const Pose& pose, const Geometry& g) const {
+  // A placed solid footprint overlapping `pose`/`g` (only movable ones if
+  // `movable_only`), or nullptr.
+  const Item* FindOverlap(const Pose& pose, const Geometry& g, bool movable_only) const {
     const Vec2 half = FootprintHalfExtents(g, pose.orientation);
     const Vec3& p = pose.position;
     for (int64_t cy = Cell(p.y() - half.y()); cy <= Cell(p.y() + half.y()); ++cy) {
@@ -96,15 +241,16 @@ class PlacementIndex {
         auto it = cells_.find(Key(cx, cy));
         if (it == cells_.end()) continue;
         for (uint32_t k : it->second) {
+          if (movable_only && !items_[k].movable) continue;
           if (Overlaps(pose, g, items_[k].pose, items_[k].geometry)) return &items_[k];
         }
       }
     }
     return nullptr;
   }
-  void Insert(const Pose& pose, const Geometry& g, const std::string& id, int line) {
+  void Insert(const Pose& pose, const Geometry& g, const std::string& id, int line, bool movable) {
     const uint32_t k = static_cast<uint32_t>(items_.size());
-    items_.push_back({pose, g, id, line});
+    items_.push_back({pose, g, id, line, movable});
     const Vec2 half = FootprintHalfExtents(g, pose.orientation);
     const Vec3& p = pose.position;
     for (int64_t cy = Cell(p.y() - half.y()); cy <= Cell(p.y() + half.y()); ++cy)
@@ -179,35 +325,29 @@ class ExperimentLoader {
   const ExperimentOptions& options_;
   std::map<std::string, int> entity_lines_;
   std::unique_ptr<PlacementIndex> placement_;
+  int generated_line_ = 0;  // the line of <walls> while its boxes are built
 };
 
 void ExperimentLoader::Parse() {
   auto& doc = *sim_.document_;
   const std::string& file = sim_.file_;
-  tinyxml2::XMLError err;
-  if (!options_.text.empty() || options_.file.empty()) {
-    err = doc.Parse(options_.text.c_str(), options_.text.size());
-  } else {
+  std::string text = options_.text;
+  if (options_.text.empty() && !options_.file.empty()) {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec)) Fail(file, 0, "cannot open the experiment file: no such file");
     if (std::filesystem::is_directory(file, ec)) Fail(file, 0, "cannot open the experiment file: it is a directory");
-    err = doc.LoadFile(file.c_str());
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream content;
+    content << in.rdbuf();
+    if (!in) Fail(file, 0, "cannot read the experiment file");
+    text = content.str();
   }
+  const tinyxml2::XMLError err = doc.Parse(text.c_str(), text.size());
   if (err == tinyxml2::XML_ERROR_EMPTY_DOCUMENT) Fail(file, 0, "the file is empty; expected an XML document with root <colony>");
-  if (err == tinyxml2::XML_ERROR_FILE_NOT_FOUND || err == tinyxml2::XML_ERROR_FILE_COULD_NOT_BE_OPENED ||
-      err == tinyxml2::XML_ERROR_FILE_READ_ERROR) {
-    Fail(file, 0, "cannot read the experiment file");
-  }
   if (err == tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED) {
     Fail(file, doc.ErrorLineNum(), "elements nested too deeply (over " + std::to_string(TINYXML2_MAX_ELEMENT_DEPTH) + " levels)");
   }
-  if (err != tinyxml2::XML_SUCCESS) {
-    std::string detail = doc.ErrorStr();
-    Fail(file, doc.ErrorLineNum(), "not well-formed XML (" + std::string(doc.ErrorName()) + "): " + detail +
-                                       (err == tinyxml2::XML_ERROR_PARSING_ELEMENT || err == tinyxml2::XML_ERROR_MISMATCHED_ELEMENT
-                                            ? " (is the file truncated or an element left open?)"
-                                            : ""));
-  }
+  if (err != tinyxml2::XML_SUCCESS) FailXml(doc, err, text, file);
   if (!doc.RootElement()) Fail(file, 0, "no root element; expected <colony>");
   const std::string root = doc.RootElement()->Name();
   if (root != "colony" && root != "argos-configuration") {
@@ -219,6 +359,7 @@ void ExperimentLoader::Parse() {
 void ExperimentLoader::ReadFramework(const ConfigNode& root) {
   const ConfigNode framework = root.Child("framework");
   if (!framework.valid()) {
+    if (HasMisspelt(root, "framework")) return;
     root.ElementError("missing <framework> (it holds <experiment length ticks_per_second random_seed>)");
     return;
   }
@@ -234,6 +375,7 @@ void ExperimentLoader::ReadFramework(const ConfigNode& root) {
   }
   const ConfigNode experiment = framework.Child("experiment");
   if (!experiment.valid()) {
+    if (HasMisspelt(framework, "experiment")) return;
     framework.ElementError("missing <experiment length=\"seconds\" ticks_per_second=\"10\" random_seed=\"1\"/>");
     return;
   }
@@ -241,6 +383,10 @@ void ExperimentLoader::ReadFramework(const ConfigNode& root) {
   const double length = experiment.GetDouble("length", 0, Range::NonNegative());
   const double tps = experiment.GetDouble("ticks_per_second", 10, {0, 1e6, true});
   const int64_t seed = experiment.GetInt("random_seed", 0, 0, INT64_MAX);
+  if (length * tps >= 9e18) {
+    experiment.Error("length", experiment.GetString("length", ""),
+                     "the experiment would last over 9e18 ticks; accepted: length * ticks_per_second < 9e18 (0: unlimited)");
+  }
   sim_.dt_ = 1.0 / tps;
   sim_.length_ticks_ = static_cast<uint64_t>(std::llround(length * tps));
   if (length > 0 && sim_.length_ticks_ == 0) sim_.length_ticks_ = 1;
@@ -454,11 +600,10 @@ std::string ExperimentLoader::CheckPlacement(const EntityDesc& desc) {
   }
   if (!(init.flags & kSolid)) return "";
   // Non-movable things may touch each other (walls meet at corners);
-  // anything movable must start clear of everything.
-  if (init.flags & kMovable) {
-    if (const auto* other = placement_->FindOverlap(init.pose, init.geometry)) {
-      return "overlaps '" + other->id + "' (line " + std::to_string(other->line) + ")";
-    }
+  // anything movable must start clear of everything, whichever comes first.
+  const bool movable = init.flags & kMovable;
+  if (const auto* other = placement_->FindOverlap(init.pose, init.geometry, !movable)) {
+    return "overlaps '" + other->id + "' (line " + std::to_string(other->line) + ")";
   }
   return "";
 }
@@ -482,7 +627,9 @@ EntityHandle ExperimentLoader::BuildEntity(const ConfigNode& node, const Pose* p
   if (check_placement && placement_) {
     const std::string problem = CheckPlacement(desc);
     if (!problem.empty()) {
-      node.ElementError("entity '" + id + "' " + problem);
+      node.ElementError("entity '" + id + "' " + problem +
+                        "; accepted: a body wholly inside the arena, not overlapping solid entities "
+                            "(only fixed ones may overlap each other)");
       return {};
     }
   }
@@ -516,21 +663,25 @@ EntityHandle ExperimentLoader::BuildEntity(const ConfigNode& node, const Pose* p
       return {};
     }
   }
-  entity_lines_[id] = node.line();
+  // Entities made by the loader (walls) have no line of their own.
+  const int line = node.line() > 0 ? node.line() : generated_line_;
+  entity_lines_[id] = line;
   if (check_placement && placement_ && (desc.init.flags & kSolid)) {
-    placement_->Insert(desc.init.pose, desc.init.geometry, id, node.line());
+    placement_->Insert(desc.init.pose, desc.init.geometry, id, line, desc.init.flags & kMovable);
   }
   return sim_.Instantiate(desc, models.data(), node);
 }
 
 void ExperimentLoader::ReadDistribute(const ConfigNode& node) {
+  // Problems found elsewhere do not stop this block from being checked.
+  const size_t errors_before = diag().size();
   node.CheckAttributes({});
   node.CheckChildren({"position", "orientation", "entity"});
   for (const char* part : {"position", "orientation", "entity"}) {
     node.CheckAtMostOne(part);
     if (!node.Child(part).valid()) node.ElementError(std::string("missing <") + part + ">");
   }
-  if (!diag().empty()) return;
+  if (diag().size() != errors_before) return;
   struct Generator {
     std::string method;
     std::array<double, 3> a{}, b{};
@@ -558,6 +709,15 @@ void ExperimentLoader::ReadDistribute(const ConfigNode& node) {
       out.a = g.RequireTriple("center");
       out.b = g.RequireTriple("distances", Range::NonNegative());
       const auto layout = g.RequireTriple("layout", Range::Between(1, 1e7));
+      const double places = layout[0] * layout[1] * layout[2];
+      bool whole = true;
+      for (double v : layout) whole = whole && v == std::floor(v);
+      if (!whole || places > 1e7) {
+        g.Error("layout", g.GetString("layout", ""),
+                "'" + g.GetString("layout", "") + "' is not a usable grid; accepted: three whole numbers >= 1 (places along x, y, z) "
+                "whose product is at most 10000000");
+        return;
+      }
       // Grid cells, filled x fastest, then y, then z.
       const int nx = static_cast<int>(layout[0]), ny = static_cast<int>(layout[1]), nz = static_cast<int>(layout[2]);
       for (int z = 0; z < nz; ++z)
@@ -583,7 +743,7 @@ void ExperimentLoader::ReadDistribute(const ConfigNode& node) {
   const int64_t base_num = ent_node.GetInt("base_num", 0, 0, INT64_MAX);
   const auto templates = ent_node.Children();
   if (templates.size() != 1) ent_node.ElementError("must hold exactly one entity element (e.g. <marxbot id=\"mb\">), found " + std::to_string(templates.size()));
-  if (!diag().empty()) return;
+  if (diag().size() != errors_before) return;
   if (pos.method == "grid" && static_cast<int64_t>(pos.values.size()) < quantity) {
     pos_node.Error("layout", pos_node.GetString("layout", ""), "the grid has " + std::to_string(pos.values.size()) +
                                                                     " places, fewer than quantity=" + std::to_string(quantity));
@@ -641,6 +801,7 @@ void ExperimentLoader::ReadDistribute(const ConfigNode& node) {
 void ExperimentLoader::ReadArena(const ConfigNode& root) {
   const ConfigNode arena = root.Child("arena");
   if (!arena.valid()) {
+    if (HasMisspelt(root, "arena")) return;
     root.ElementError("missing <arena size=\"x,y,z\"> holding the robots and objects");
     return;
   }
@@ -650,11 +811,14 @@ void ExperimentLoader::ReadArena(const ConfigNode& root) {
   arena.CheckChildren(children);
   arena.CheckAtMostOne("floor");
   arena.CheckAtMostOne("walls");
+  // Without a size nothing can be placed; other problems do not stop the
+  // entities from being checked, so all are reported together.
+  const size_t errors_before = diag().size();
   const auto size = arena.RequireTriple("size", Range::Positive());
   const auto s = Vec3(size[0], size[1], size[2]);
   const auto c = arena.GetTriple("center", {0, 0, size[2] / 2});
   const Vec3 center(c[0], c[1], c[2]);
-  if (!diag().empty()) return;
+  if (diag().size() != errors_before) return;
   sim_.space_.SetArena(center, s);
   placement_ = std::make_unique<PlacementIndex>(0.5);
   const Vec3 lo = center - 0.5 * s, hi = center + 0.5 * s;
@@ -681,39 +845,52 @@ void ExperimentLoader::ReadArena(const ConfigNode& root) {
   if (const ConfigNode walls = arena.Child("walls"); walls.valid()) {
     walls.CheckAttributes({"thickness", "height", "color"});
     walls.CheckChildren({});
+    const size_t wall_errors = diag().size();
     const double t = walls.GetDouble("thickness", 0.1, Range::Positive());
     const double h = walls.GetDouble("height", 0.5, Range::Positive());
     const std::string color = walls.GetString("color", "gray50");
     if (!ParseColor(color)) walls.Error("color", color, "'" + color + "' is not a colour; accepted: " + kColorAccepted);
-    if (2 * t >= std::min(s.x(), s.y())) walls.Error("thickness", std::to_string(t), "walls this thick leave no room inside the arena");
-    if (h > s.z()) walls.Error("height", std::to_string(h), "walls are taller than the arena");
-    if (!diag().empty()) return;
-    // Four boxes lining the inside of the arena's edges.
-    struct Side {
-      const char* id;
-      double x, y, sx, sy;
-    } sides[] = {
-        {"wall_north", center.x(), hi.y() - t / 2, s.x(), t},
-        {"wall_south", center.x(), lo.y() + t / 2, s.x(), t},
-        {"wall_east", hi.x() - t / 2, center.y(), t, s.y() - 2 * t},
-        {"wall_west", lo.x() + t / 2, center.y(), t, s.y() - 2 * t},
-    };
-    for (const auto& side : sides) {
-      auto* e = sim_.document_->NewElement("box");
-      e->SetAttribute("id", side.id);
-      const std::string sz = std::to_string(side.sx) + "," + std::to_string(side.sy) + "," + std::to_string(h);
-      e->SetAttribute("size", sz.c_str());
-      e->SetAttribute("movable", "false");
-      e->SetAttribute("color", color.c_str());
-      auto* body = e->InsertNewChildElement("body");
-      const std::string pos = std::to_string(side.x) + "," + std::to_string(side.y) + "," + std::to_string(lo.z());
-      body->SetAttribute("position", pos.c_str());
-      // Keep the walls' line for messages: parse it as if written there.
-      ConfigContext& context = ctx();
-      tinyxml2::XMLElement* parent = const_cast<tinyxml2::XMLElement*>(walls.element());
-      parent->InsertEndChild(e);
-      BuildEntity(ConfigNode(e, &context), nullptr, true);
-      parent->DeleteChild(e);
+    if (2 * t >= std::min(s.x(), s.y())) {
+      const std::string raw = walls.GetString("thickness", "");
+      walls.Error("thickness", raw, "walls " + raw + " m thick leave no room inside the arena; accepted: a number > 0 and < " +
+                                        FormatNumber(std::min(s.x(), s.y()) / 2) + " (half the arena's smaller side)");
+    }
+    if (h > s.z()) {
+      const std::string raw = walls.GetString("height", "");
+      walls.Error("height", raw, "walls are taller than the arena; accepted: a number > 0 and <= " + FormatNumber(s.z()) +
+                                     " (the arena's height)");
+    }
+    // Bad walls are reported; the entities are still checked.
+    if (diag().size() == wall_errors) {
+      // Four boxes lining the inside of the arena's edges.
+      struct Side {
+        const char* id;
+        double x, y, sx, sy;
+      } sides[] = {
+          {"wall_north", center.x(), hi.y() - t / 2, s.x(), t},
+          {"wall_south", center.x(), lo.y() + t / 2, s.x(), t},
+          {"wall_east", hi.x() - t / 2, center.y(), t, s.y() - 2 * t},
+          {"wall_west", lo.x() + t / 2, center.y(), t, s.y() - 2 * t},
+      };
+      generated_line_ = walls.line();
+      for (const auto& side : sides) {
+        auto* e = sim_.document_->NewElement("box");
+        e->SetAttribute("id", side.id);
+        const std::string sz = std::to_string(side.sx) + "," + std::to_string(side.sy) + "," + std::to_string(h);
+        e->SetAttribute("size", sz.c_str());
+        e->SetAttribute("movable", "false");
+        e->SetAttribute("color", color.c_str());
+        auto* body = e->InsertNewChildElement("body");
+        const std::string pos = std::to_string(side.x) + "," + std::to_string(side.y) + "," + std::to_string(lo.z());
+        body->SetAttribute("position", pos.c_str());
+        // Keep the walls' line for messages: parse it as if written there.
+        ConfigContext& context = ctx();
+        tinyxml2::XMLElement* parent = const_cast<tinyxml2::XMLElement*>(walls.element());
+        parent->InsertEndChild(e);
+        BuildEntity(ConfigNode(e, &context), nullptr, true);
+        parent->DeleteChild(e);
+      }
+      generated_line_ = 0;
     }
   }
   for (const ConfigNode& child : arena.Children()) {
@@ -791,6 +968,13 @@ void ExperimentLoader::Load() {
   ReadArena(root);
   diag().ThrowIfAny();
   ReadLoopFunctions(root);
+  if (sim_.length_ticks_ == 0 && sim_.loop_functions_.empty()) {
+    // Nothing could ever end the run.
+    const ConfigNode experiment = root.Child("framework").Child("experiment");
+    experiment.Error("length", experiment.GetString("length", "0"),
+                     "length 0 runs until the loop functions end the experiment, but none are "
+                     "declared; accepted: a length > 0 (seconds), or <loop_functions> that stop the run");
+  }
   diag().ThrowIfAny();
   sim_.space_.UpdateIndex();
   placement_.reset();

@@ -31,9 +31,11 @@ inline Quat FromEulerZYX(double yaw, double pitch, double roll) {
 
 // Wraps an angle to (-pi, pi].
 inline double WrapAngle(double a) {
-  a = std::fmod(a + M_PI, 2.0 * M_PI);
-  if (a < 0) a += 2.0 * M_PI;
-  return a - M_PI;
+  if (a > -M_PI && a <= M_PI) return a;
+  a = std::fmod(a - M_PI, 2.0 * M_PI);
+  if (a <= -2.0 * M_PI) a += 2.0 * M_PI;
+  if (a > 0) a -= 2.0 * M_PI;
+  return a + M_PI;
 }
 
 struct Pose {

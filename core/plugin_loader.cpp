@@ -27,7 +27,15 @@ std::vector<std::string> PluginSearchPath() {
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (!ec) dirs.push_back((exe.parent_path().parent_path() / "lib" / "colony").string());
   dirs.push_back(COLONY_INSTALL_PLUGIN_DIR);
-  return dirs;
+  // The same folder named twice is searched once.
+  std::vector<std::string> unique;
+  for (const auto& d : dirs) {
+    const std::string canonical = fs::weakly_canonical(d, ec).string();
+    bool seen = false;
+    for (const auto& u : unique) seen = seen || fs::weakly_canonical(u, ec).string() == canonical;
+    if (!seen) unique.push_back(d);
+  }
+  return unique;
 }
 
 std::string LoadPluginLibrary(const std::string& spec, const std::string& base_dir) {

@@ -36,6 +36,14 @@ struct AttributeDoc {
 };
 
 struct PluginInfo {
+  PluginInfo(PluginKind kind, std::string label, std::string implementation, std::string summary,
+             std::vector<AttributeDoc> attributes = {}, std::vector<std::string> aliases = {})
+      : kind(kind),
+        label(std::move(label)),
+        implementation(std::move(implementation)),
+        summary(std::move(summary)),
+        attributes(std::move(attributes)),
+        aliases(std::move(aliases)) {}
   PluginKind kind = PluginKind::kEntity;
   std::string label;           // the XML element name
   std::string implementation;  // "default" unless a plugin has several

@@ -157,6 +157,7 @@ void Simulation::RemoveEntity(EntityHandle entity) {
   }
   engine_of_[slot] = -1;
   space_.Remove(entity);
+  space_.UpdateIndex();
 }
 
 Controller* Simulation::ControllerOf(EntityHandle robot) const {
@@ -210,6 +211,8 @@ void Simulation::SenseAndControl() {
 }
 
 void Simulation::Step() {
+  // Entities added or removed since the last tick.
+  if (space_.index_dirty()) space_.UpdateIndex();
   // 1. act
   Act();
   // 2. physics, then the spatial index for sensors and the next tick

@@ -1,2 +1,258 @@
+// The space: adding and removing entities, handles that detect reuse of a
+// slot, lookup by id and by type, and the spatial index behind Gather.
+// Suites are named core_test_* so `ctest -R core_test` selects them.
+#include "core/space.h"
+
 #include <gtest/gtest.h>
-TEST(P2, Builds) { SUCCEED(); }
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+namespace colony {
+namespace {
+
+Space::EntityInit Robot(const std::string& id, uint16_t type, double x, double y, double radius = 0.1) {
+  Space::EntityInit init;
+  init.id = id;
+  init.type = type;
+  init.pose.position = Vec3(x, y, 0);
+  init.geometry.shape = ShapeKind::kCylinder;
+  init.geometry.radius = radius;
+  init.geometry.size = Vec3(2 * radius, 2 * radius, 0.1);
+  init.flags = kSolid | kMovable | kRobot;
+  init.led_count = 3;
+  init.has_drive = true;
+  init.drive.wheel_base = 0.1;
+  return init;
+}
+
+Space::EntityInit Wall(const std::string& id, uint16_t type, double x, double y, double sx, double sy) {
+  Space::EntityInit init;
+  init.id = id;
+  init.type = type;
+  init.pose.position = Vec3(x, y, 0);
+  init.geometry.shape = ShapeKind::kBox;
+  init.geometry.size = Vec3(sx, sy, 0.5);
+  init.flags = kSolid;
+  return init;
+}
+
+std::vector<uint32_t> Gathered(const Space& space, double x0, double y0, double x1, double y1) {
+  std::vector<uint32_t> out;
+  space.Gather(x0, y0, x1, y1, out);
+  return out;
+}
+
+bool HasSlot(const std::vector<uint32_t>& slots, uint32_t slot) {
+  return std::find(slots.begin(), slots.end(), slot) != slots.end();
+}
+
+class core_test_space : public ::testing::Test {
+ protected:
+  core_test_space() {
+    space.SetArena(Vec3(0, 0, 0.5), Vec3(10, 10, 1));
+    robot_type = space.TypeId("marxbot");
+    box_type = space.TypeId("box");
+  }
+  Space space;
+  uint16_t robot_type = 0, box_type = 0;
+};
+
+TEST_F(core_test_space, TypeIdsAreStablePerLabel) {
+  EXPECT_NE(robot_type, box_type);
+  EXPECT_EQ(space.TypeId("marxbot"), robot_type);
+  EXPECT_EQ(space.TypeLabel(box_type), "box");
+  EXPECT_EQ(space.type_count(), 2u);
+}
+
+TEST_F(core_test_space, AddStoresTheEntityAndFindsItById) {
+  const EntityHandle a = space.Add(Robot("a", robot_type, 1, 2));
+  const EntityHandle b = space.Add(Wall("b", box_type, -1, -1, 1, 1));
+  ASSERT_TRUE(a.valid());
+  EXPECT_TRUE(space.IsAlive(a));
+  EXPECT_TRUE(space.IsAlive(b));
+  EXPECT_NE(a.index, b.index);
+  EXPECT_EQ(space.alive_count(), 2u);
+  EXPECT_EQ(space.id(a.index), "a");
+  EXPECT_EQ(space.type(a.index), robot_type);
+  EXPECT_EQ(space.pose(a.index).position, Vec3(1, 2, 0));
+  EXPECT_TRUE(space.movable(a.index));
+  EXPECT_FALSE(space.movable(b.index));
+  EXPECT_EQ(space.leds(a.index).size(), 3u);
+  EXPECT_EQ(space.leds(b.index).size(), 0u);
+  ASSERT_NE(space.drive(a.index), nullptr);
+  EXPECT_EQ(space.drive(a.index)->wheel_base, 0.1);
+  EXPECT_EQ(space.drive(b.index), nullptr);
+  EXPECT_EQ(space.light(a.index), nullptr);
+  EXPECT_EQ(space.Find("a"), a);
+  EXPECT_EQ(space.Find("b"), b);
+  EXPECT_FALSE(space.Find("c").valid());
+}
+
+TEST_F(core_test_space, LightsShineInTheirColour) {
+  Space::EntityInit init;
+  init.id = "lamp";
+  init.type = space.TypeId("light");
+  init.flags = 0;
+  init.color = Color{255, 255, 0, 255};
+  init.led_count = 1;
+  init.light_intensity = 2;
+  const EntityHandle lamp = space.Add(init);
+  ASSERT_NE(space.light(lamp.index), nullptr);
+  EXPECT_EQ(space.light(lamp.index)->intensity, 2);
+  EXPECT_EQ(space.leds(lamp.index)[0], init.color);
+  // Robots' LEDs start off.
+  const EntityHandle r = space.Add(Robot("r", robot_type, 0, 0));
+  for (const Color& c : space.leds(r.index)) EXPECT_EQ(c, Color::Black());
+}
+
+TEST_F(core_test_space, RemoveForgetsTheEntity) {
+  const EntityHandle a = space.Add(Robot("a", robot_type, 1, 2));
+  const EntityHandle b = space.Add(Robot("b", robot_type, 3, 2));
+  space.Remove(a);
+  EXPECT_FALSE(space.IsAlive(a));
+  EXPECT_FALSE(space.alive(a.index));
+  EXPECT_TRUE(space.IsAlive(b));
+  EXPECT_EQ(space.alive_count(), 1u);
+  EXPECT_FALSE(space.Find("a").valid());
+  EXPECT_EQ(space.Find("b"), b);
+  // Removing twice is harmless.
+  space.Remove(a);
+  EXPECT_EQ(space.alive_count(), 1u);
+}
+
+TEST_F(core_test_space, HandlesDetectReuseOfASlot) {
+  const EntityHandle old = space.Add(Robot("a", robot_type, 1, 2));
+  space.Remove(old);
+  const EntityHandle fresh = space.Add(Robot("c", robot_type, -1, -2));
+  EXPECT_EQ(fresh.index, old.index) << "the freed slot is reused";
+  EXPECT_NE(fresh.generation, old.generation);
+  EXPECT_FALSE(space.IsAlive(old)) << "a stale handle must not reach the new occupant";
+  EXPECT_TRUE(space.IsAlive(fresh));
+  EXPECT_EQ(space.HandleOf(fresh.index), fresh);
+  // Removing through the stale handle leaves the new entity alone.
+  space.Remove(old);
+  EXPECT_TRUE(space.IsAlive(fresh));
+  EXPECT_EQ(space.Find("c"), fresh);
+  EXPECT_EQ(space.id(fresh.index), "c");
+  EXPECT_EQ(space.pose(fresh.index).position, Vec3(-1, -2, 0));
+  // An invalid or out-of-range handle is never alive.
+  EXPECT_FALSE(space.IsAlive(EntityHandle{}));
+  EXPECT_FALSE(space.IsAlive(EntityHandle{1000, 0}));
+}
+
+TEST_F(core_test_space, OfTypeListsAliveEntitiesInOrderAdded) {
+  const EntityHandle r1 = space.Add(Robot("r1", robot_type, 1, 1));
+  const EntityHandle w = space.Add(Wall("w", box_type, 0, 0, 1, 1));
+  const EntityHandle r2 = space.Add(Robot("r2", robot_type, 2, 2));
+  const EntityHandle r3 = space.Add(Robot("r3", robot_type, 3, 3));
+  EXPECT_EQ(space.OfType(robot_type), (std::vector<uint32_t>{r1.index, r2.index, r3.index}));
+  EXPECT_EQ(space.OfType(box_type), (std::vector<uint32_t>{w.index}));
+  space.Remove(r2);
+  EXPECT_EQ(space.OfType(robot_type), (std::vector<uint32_t>{r1.index, r3.index}));
+  EXPECT_TRUE(space.OfType(space.TypeId("never_used")).empty());
+  EXPECT_TRUE(space.OfType(999).empty());
+}
+
+TEST_F(core_test_space, GatherReturnsNeighboursNotFarEntities) {
+  const EntityHandle centre = space.Add(Robot("centre", robot_type, 0, 0));
+  const EntityHandle near = space.Add(Robot("near", robot_type, 0.3, 0.2));
+  const EntityHandle far = space.Add(Robot("far", robot_type, 4, 4));
+  const EntityHandle other_side = space.Add(Robot("other_side", robot_type, -4, 3));
+  space.UpdateIndex();
+  EXPECT_FALSE(space.index_dirty());
+  const auto around = Gathered(space, -0.5, -0.5, 0.5, 0.5);
+  EXPECT_TRUE(HasSlot(around, centre.index));
+  EXPECT_TRUE(HasSlot(around, near.index));
+  EXPECT_FALSE(HasSlot(around, far.index));
+  EXPECT_FALSE(HasSlot(around, other_side.index));
+  const auto corner = Gathered(space, 3.5, 3.5, 4.5, 4.5);
+  EXPECT_TRUE(HasSlot(corner, far.index));
+  EXPECT_FALSE(HasSlot(corner, centre.index));
+}
+
+TEST_F(core_test_space, GatherReturnsEachEntityOnce) {
+  for (int i = 0; i < 50; ++i) space.Add(Robot("r" + std::to_string(i), robot_type, -4.5 + 0.18 * i, 0.1 * (i % 7)));
+  space.Add(Wall("long", box_type, 0, -2, 9, 0.2));
+  space.UpdateIndex();
+  auto all = Gathered(space, -5, -5, 5, 5);
+  EXPECT_EQ(all.size(), 51u);
+  std::sort(all.begin(), all.end());
+  EXPECT_EQ(std::adjacent_find(all.begin(), all.end()), all.end()) << "an entity came back twice";
+}
+
+TEST_F(core_test_space, GatherFindsABodyReachingIntoTheQueryFromANeighbouringCell) {
+  // A large movable body whose centre lies outside the query rectangle but
+  // whose footprint overlaps it.
+  const EntityHandle big = space.Add(Robot("big", robot_type, 1.25, 0, 0.35));
+  space.UpdateIndex();
+  EXPECT_TRUE(HasSlot(Gathered(space, 0.85, -0.05, 0.95, 0.05), big.index));
+}
+
+TEST_F(core_test_space, WallsSpanningManyCellsAreFoundAlongTheirLengthOnce) {
+  // One wall along the whole north edge and one along the west edge.
+  const EntityHandle north = space.Add(Wall("north", box_type, 0, 4.95, 10, 0.1));
+  const EntityHandle west = space.Add(Wall("west", box_type, -4.95, 0, 0.1, 9.8));
+  space.UpdateIndex();
+  for (double x : {-4.8, -2.0, 0.0, 3.3, 4.8}) {
+    const auto hits = Gathered(space, x - 0.1, 4.7, x + 0.1, 4.9);
+    EXPECT_EQ(std::count(hits.begin(), hits.end(), north.index), 1) << "x = " << x;
+  }
+  for (double y : {-4.7, 0.0, 4.0}) {
+    const auto hits = Gathered(space, -4.9, y - 0.1, -4.7, y + 0.1);
+    EXPECT_EQ(std::count(hits.begin(), hits.end(), west.index), 1) << "y = " << y;
+  }
+  // A query covering the whole arena sees each wall once, though both sit in many cells.
+  const auto everything = Gathered(space, -5, -5, 5, 5);
+  EXPECT_EQ(std::count(everything.begin(), everything.end(), north.index), 1);
+  EXPECT_EQ(std::count(everything.begin(), everything.end(), west.index), 1);
+  // Far from both: neither.
+  const auto middle = Gathered(space, -0.5, -0.5, 0.5, 0.5);
+  EXPECT_FALSE(HasSlot(middle, north.index));
+  EXPECT_FALSE(HasSlot(middle, west.index));
+}
+
+TEST_F(core_test_space, GatherSkipsNonSolidAndRemovedEntities) {
+  Space::EntityInit ghost = Robot("ghost", robot_type, 0, 0);
+  ghost.flags = kMovable;  // not solid
+  const EntityHandle g = space.Add(ghost);
+  const EntityHandle gone = space.Add(Robot("gone", robot_type, 0.2, 0));
+  const EntityHandle wall = space.Add(Wall("w", box_type, 0, 0.5, 1, 0.1));
+  space.UpdateIndex();
+  EXPECT_TRUE(HasSlot(Gathered(space, -1, -1, 1, 1), gone.index));
+  space.Remove(gone);
+  space.Remove(wall);
+  EXPECT_TRUE(space.index_dirty());
+  space.UpdateIndex();
+  const auto hits = Gathered(space, -1, -1, 1, 1);
+  EXPECT_FALSE(HasSlot(hits, g.index));
+  EXPECT_FALSE(HasSlot(hits, gone.index));
+  EXPECT_FALSE(HasSlot(hits, wall.index));
+}
+
+TEST_F(core_test_space, GatherFollowsMovesAfterUpdateIndex) {
+  const EntityHandle r = space.Add(Robot("r", robot_type, -3, -3));
+  space.UpdateIndex();
+  EXPECT_FALSE(HasSlot(Gathered(space, 2.5, 2.5, 3.5, 3.5), r.index));
+  space.pose(r.index).position = Vec3(3, 3, 0);
+  space.UpdateIndex();
+  EXPECT_TRUE(HasSlot(Gathered(space, 2.5, 2.5, 3.5, 3.5), r.index));
+  EXPECT_FALSE(HasSlot(Gathered(space, -3.5, -3.5, -2.5, -2.5), r.index));
+}
+
+TEST_F(core_test_space, HashChangesWithStateOnly) {
+  const EntityHandle r = space.Add(Robot("r", robot_type, 1, 1));
+  auto hash = [&] {
+    StateHasher h;
+    space.Hash(h);
+    return h.value();
+  };
+  const uint64_t before = hash();
+  EXPECT_EQ(hash(), before);
+  space.pose(r.index).position.x() += 1e-9;
+  EXPECT_NE(hash(), before);
+}
+
+}  // namespace
+}  // namespace colony
