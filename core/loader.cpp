@@ -824,7 +824,7 @@ void ExperimentLoader::ReadArena(const ConfigNode& root) {
   const Vec3 lo = center - 0.5 * s, hi = center + 0.5 * s;
 
   if (const ConfigNode floor = arena.Child("floor"); floor.valid()) {
-    floor.CheckAttributes({"id", "color", "source", "path", "pixels_per_meter"});
+    floor.CheckAttributes({"id", "color", "source", "path"});
     floor.CheckChildren({});
     const std::string source = floor.GetChoice("source", {"color", "image"}, floor.Has("path") ? "image" : "color");
     sim_.space_.floor().SetColor(floor.GetColor("color", Color::White()));

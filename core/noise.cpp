@@ -2,13 +2,14 @@
 
 namespace colony {
 
-std::vector<AttributeDoc> NoiseModel::Attributes() {
-  return {
+std::vector<AttributeDoc> NoiseModel::Attributes(bool with_drop) {
+  std::vector<AttributeDoc> a = {
       {"noise", "none, gaussian, uniform", "none", "noise added to each reading"},
       {"noise_std_dev", "a number >= 0", "0", "standard deviation of gaussian noise"},
       {"noise_range", "\"min,max\"", "0,0", "bounds of uniform noise"},
-      {"drop_probability", "a number in [0, 1]", "0", "probability that a reading is lost"},
   };
+  if (with_drop) a.push_back({"drop_probability", "a number in [0, 1]", "0", "probability that a reading is lost (reads 0)"});
+  return a;
 }
 
 NoiseModel NoiseModel::Read(const ConfigNode& node) {

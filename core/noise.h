@@ -20,7 +20,8 @@ struct NoiseModel {
   double drop_probability = 0;
 
   // The attributes above, to append to a sensor's registered attributes.
-  static std::vector<AttributeDoc> Attributes();
+  // with_drop: whether the sensor can lose readings (drop_probability).
+  static std::vector<AttributeDoc> Attributes(bool with_drop = true);
   static NoiseModel Read(const ConfigNode& node);
 
   bool enabled() const { return kind != Kind::kNone || drop_probability > 0; }

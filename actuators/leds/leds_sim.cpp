@@ -22,6 +22,9 @@ class LedSystem : public ActuatorSystem {
     if (n == 0) throw AttachError("it has no LEDs");
     LedInstance& l = instances_.Add(robot, rng);
     l.mutable_colors().assign(n, initial_);
+    // Lit from the start, not only after the first tick.
+    auto leds = sim().space().leds(robot.index);
+    std::fill(leds.begin(), leds.end(), initial_);
     return &l;
   }
   void Detach(Actuator* a) override { instances_.Remove(static_cast<Leds*>(a)); }

@@ -63,7 +63,7 @@ class PositioningSystem : public SensorSystem {
 };
 
 std::vector<AttributeDoc> PositioningAttributes() {
-  auto a = NoiseModel::Attributes();
+  auto a = NoiseModel::Attributes(/*with_drop=*/false);
   a.push_back({"angle_noise_std_dev", "a number >= 0 (rad)", "0", "gaussian noise on the heading"});
   return a;
 }

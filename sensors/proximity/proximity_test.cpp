@@ -1,1 +1,334 @@
+// Proximity sensors as a controller sees them: a ring of 24 IR readings on the
+// marXbot, 0.01/d of the distance d to the nearest solid thing in range.
+#include "sensors/proximity/proximity.h"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/registry.h"
 #include "tests/test_util.h"
+
+namespace colony {
+namespace {
+
+using testing::Experiment;
+using testing::LoadError;
+using testing::LoadXml;
+
+// Copies what its proximity ring read at every control step.
+class ProximityProbe : public Controller {
+ public:
+  void Init(const Params& params) override { sensor_ = &GetSensor<ProximitySensor>("proximity"); }
+  void ControlStep() override {
+    last = sensor_->readings();
+    ++steps;
+  }
+  std::vector<ProximitySensor::Reading> last;
+  int steps = 0;
+
+ private:
+  const ProximitySensor* sensor_ = nullptr;
+};
+
+COLONY_REGISTER_CONTROLLER(ProximityProbe, "proximity_probe", "test: records proximity readings");
+
+std::string Controllers(const std::string& proximity_attributes = "") {
+  return "<proximity_probe id=\"pp\"><sensors><proximity " + proximity_attributes +
+         "/></sensors></proximity_probe>";
+}
+
+std::string Robot(const std::string& id, const std::string& position, double yaw_degrees = 0) {
+  return "<marxbot id=\"" + id + "\"><body position=\"" + position + "\" orientation=\"" +
+         std::to_string(yaw_degrees) + ",0,0\"/><controller config=\"pp\"/></marxbot>";
+}
+
+std::string Box(const std::string& id, const std::string& size, const std::string& position) {
+  return "<box id=\"" + id + "\" size=\"" + size + "\"><body position=\"" + position + "\"/></box>";
+}
+
+const std::vector<ProximitySensor::Reading>& Readings(Simulation& sim, const std::string& robot) {
+  auto* probe = dynamic_cast<ProximityProbe*>(sim.ControllerOf(sim.space().Find(robot)));
+  EXPECT_NE(probe, nullptr) << robot;
+  static const std::vector<ProximitySensor::Reading> kNone;
+  return probe ? probe->last : kNone;
+}
+
+float MaxOf(const std::vector<ProximitySensor::Reading>& r) {
+  float m = 0;
+  for (const auto& x : r) m = std::max(m, x.value);
+  return m;
+}
+
+// Distance along sensor ray `angle` (robot at the origin, yaw 0) from the body
+// surface (radius 0.085) to the plane x = face.
+double RayToPlane(double angle, double face) {
+  return (face - 0.085 * std::cos(angle)) / std::cos(angle);
+}
+
+TEST(Proximity, MarxbotHas24SensorsFifteenDegreesApartFromSevenAndAHalf) {
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0"), Controllers()));
+  sim->Step();
+  const auto& r = Readings(*sim, "r");
+  ASSERT_EQ(r.size(), 24u);
+  for (size_t i = 0; i < r.size(); ++i) {
+    const double expected = WrapAngle(DegToRad(7.5 + 15.0 * i));
+    EXPECT_NEAR(r[i].angle, expected, 1e-6) << "sensor " << i;
+  }
+  // Ring order is counter-clockwise: the first sensor is just left of the
+  // front, the last just right of it.
+  EXPECT_NEAR(r.front().angle, DegToRad(7.5), 1e-6);
+  EXPECT_NEAR(r.back().angle, DegToRad(-7.5), 1e-6);
+  for (size_t i = 0; i < r.size(); ++i) {
+    EXPECT_GT(r[i].angle, -M_PI);
+    EXPECT_LE(r[i].angle, M_PI);
+  }
+}
+
+TEST(Proximity, NothingInRangeReadsZero) {
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Box("far", "0.2,0.2,0.2", "0.5,0,0"), Controllers()));
+  sim->Step();
+  for (const auto& x : Readings(*sim, "r")) EXPECT_EQ(x.value, 0.0f) << "angle " << x.angle;
+}
+
+TEST(Proximity, BoxInFrontIsSeenByTheFrontSensorsOnly) {
+  // Box face 5 cm in front of the body (the body's radius is 8.5 cm).
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.185,0,0"), Controllers()));
+  sim->Step();
+  const auto& r = Readings(*sim, "r");
+  ASSERT_EQ(r.size(), 24u);
+  // The two sensors either side of the front: 0.01 / d along their rays.
+  EXPECT_NEAR(r[0].value, 0.01 / RayToPlane(DegToRad(7.5), 0.135), 1e-5);
+  EXPECT_NEAR(r[23].value, 0.01 / RayToPlane(DegToRad(-7.5), 0.135), 1e-5);
+  EXPECT_GT(r[0].value, 0.18f);
+  EXPECT_FLOAT_EQ(r[0].value, r[23].value);  // symmetric
+  // The front ones read most.
+  EXPECT_EQ(MaxOf(r), r[0].value);
+  // Everything looking backwards reads nothing.
+  for (const auto& x : r) {
+    if (std::cos(x.angle) < 0) {
+      EXPECT_EQ(x.value, 0.0f) << "angle " << x.angle;
+    }
+  }
+}
+
+TEST(Proximity, ReadingsFollowTheRobotsHeading) {
+  // Box at +y; the robot faces +y (yaw 90 degrees): its front sensors see it.
+  // A second robot faces +x with a box at +y: its left sensors (90 degrees) see it.
+  auto sim = LoadXml(Experiment(Robot("north", "-1,0,0", 90) + Box("b1", "0.6,0.1,0.2", "-1,0.185,0") +
+                                    Robot("east", "1,0,0", 0) + Box("b2", "0.6,0.1,0.2", "1,0.185,0"),
+                                Controllers()));
+  sim->Step();
+  const auto& north = Readings(*sim, "north");
+  EXPECT_GT(north[0].value, 0.18f);
+  EXPECT_GT(north[23].value, 0.18f);
+  EXPECT_EQ(north[11].value, 0.0f);
+  const auto& east = Readings(*sim, "east");
+  // Sensors 5 and 6 are at 82.5 and 97.5 degrees.
+  EXPECT_GT(east[5].value, 0.18f);
+  EXPECT_GT(east[6].value, 0.18f);
+  EXPECT_EQ(east[5].value, MaxOf(east));
+  EXPECT_EQ(east[0].value, 0.0f);
+  EXPECT_EQ(east[23].value, 0.0f);
+  EXPECT_EQ(east[17].value, 0.0f);  // 262.5 degrees: the right side
+}
+
+TEST(Proximity, ReadingsFallWithDistance) {
+  // Three robots, each with a box at 2, 5 and 8 cm from its front.
+  std::string arena;
+  const double gaps[] = {0.02, 0.05, 0.08};
+  for (int k = 0; k < 3; ++k) {
+    const std::string y = std::to_string(-1.0 + k);
+    arena += Robot("r" + std::to_string(k), "0," + y + ",0") +
+             Box("b" + std::to_string(k), "0.1,0.6,0.2", std::to_string(0.085 + gaps[k] + 0.05) + "," + y + ",0");
+  }
+  auto sim = LoadXml(Experiment(arena, Controllers()));
+  sim->Step();
+  const float near = Readings(*sim, "r0")[0].value;
+  const float mid = Readings(*sim, "r1")[0].value;
+  const float far = Readings(*sim, "r2")[0].value;
+  EXPECT_GT(near, mid);
+  EXPECT_GT(mid, far);
+  EXPECT_GT(far, 0.0f);
+  EXPECT_NEAR(near, 0.01 / RayToPlane(DegToRad(7.5), 0.105), 1e-5);
+  EXPECT_NEAR(far, 0.01 / RayToPlane(DegToRad(7.5), 0.165), 1e-5);
+}
+
+TEST(Proximity, TouchingReadsOne) {
+  // Within 1 cm of the body: saturated at 1.
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.14,0,0"), Controllers()));
+  sim->Step();
+  const auto& r = Readings(*sim, "r");
+  EXPECT_EQ(r[0].value, 1.0f);
+  EXPECT_EQ(r[23].value, 1.0f);
+  for (const auto& x : r) EXPECT_LE(x.value, 1.0f);
+}
+
+TEST(Proximity, DefaultRangeIsTenCentimetresFromTheBody) {
+  // Faces at 9 cm and 12 cm from the front (along the x axis).
+  auto sim = LoadXml(Experiment(Robot("in", "0,-1,0") + Box("b1", "0.1,0.6,0.2", "0.225,-1,0") +
+                                    Robot("out", "0,1,0") + Box("b2", "0.1,0.6,0.2", "0.255,1,0"),
+                                Controllers()));
+  sim->Step();
+  EXPECT_GT(Readings(*sim, "in")[0].value, 0.09f);
+  EXPECT_EQ(MaxOf(Readings(*sim, "out")), 0.0f);
+}
+
+TEST(Proximity, RangeAttributeWidensOrNarrowsTheRange) {
+  const std::string arena = Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.285,0,0");  // face 15 cm away
+  {
+    auto sim = LoadXml(Experiment(arena, Controllers()));
+    sim->Step();
+    EXPECT_EQ(MaxOf(Readings(*sim, "r")), 0.0f);
+  }
+  {
+    auto sim = LoadXml(Experiment(arena, Controllers("range=\"0.2\"")));
+    sim->Step();
+    EXPECT_NEAR(Readings(*sim, "r")[0].value, 0.01 / RayToPlane(DegToRad(7.5), 0.235), 1e-5);
+  }
+  {
+    // A 4 cm range hides a box 5 cm away.
+    auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.185,0,0"),
+                                  Controllers("range=\"0.04\"")));
+    sim->Step();
+    EXPECT_EQ(MaxOf(Readings(*sim, "r")), 0.0f);
+  }
+}
+
+TEST(Proximity, BadRangeIsReported) {
+  const std::string message = LoadError(Experiment(Robot("r", "0,0,0"), Controllers("range=\"-0.1\"")));
+  EXPECT_NE(message.find("<proximity>"), std::string::npos) << message;
+  EXPECT_NE(message.find("attribute 'range'"), std::string::npos) << message;
+  EXPECT_NE(message.find("> 0"), std::string::npos) << message;
+  const std::string typo = LoadError(Experiment(Robot("r", "0,0,0"), Controllers("rnage=\"0.1\"")));
+  EXPECT_NE(typo.find("did you mean 'range'"), std::string::npos) << typo;
+}
+
+TEST(Proximity, LowObjectsAreNotSeen) {
+  // The sensors are 6 cm above the floor: a 3 cm high box passes under them,
+  // and so does a box hanging above them.
+  auto sim = LoadXml(Experiment(Robot("low", "0,-1,0") + Box("b1", "0.1,0.6,0.03", "0.185,-1,0") +
+                                    Robot("high", "0,1,0") + Box("b2", "0.1,0.6,0.2", "0.185,1,0.1") +
+                                    Robot("seen", "-1,0,0") + Box("b3", "0.1,0.6,0.07", "-0.815,0,0"),
+                                Controllers()));
+  sim->Step();
+  EXPECT_EQ(MaxOf(Readings(*sim, "low")), 0.0f);
+  EXPECT_EQ(MaxOf(Readings(*sim, "high")), 0.0f);
+  EXPECT_GT(Readings(*sim, "seen")[0].value, 0.18f);
+}
+
+TEST(Proximity, OtherRobotsAndCylindersAreSeenLightsAreNot) {
+  // Another marXbot 5 cm behind (surface to surface), a cylinder 3 cm to the
+  // right, and a light right in front (lights are not solid).
+  auto sim = LoadXml(Experiment(
+      Robot("r", "0,0,0") + Robot("other", "-0.22,0,0") +
+          "<cylinder id=\"c\" radius=\"0.05\" height=\"0.2\"><body position=\"0,-0.165,0\"/></cylinder>"
+          "<light id=\"l\" position=\"0.1,0,0.06\"/>",
+      Controllers()));
+  sim->Step();
+  const auto& r = Readings(*sim, "r");
+  // Back: sensors 11 and 12 (172.5 and 187.5 degrees) look at the other robot.
+  EXPECT_GT(r[11].value, 0.15f);
+  EXPECT_GT(r[12].value, 0.15f);
+  // Right: sensors 17 and 18 (262.5 and 277.5 degrees) look at the cylinder.
+  EXPECT_GT(r[17].value, 0.25f);
+  EXPECT_GT(r[18].value, 0.25f);
+  // Front: the light is not seen.
+  EXPECT_EQ(r[0].value, 0.0f);
+  EXPECT_EQ(r[23].value, 0.0f);
+  // The other robot sees this one with its front sensors (it faces +x).
+  EXPECT_GT(Readings(*sim, "other")[0].value, 0.15f);
+}
+
+TEST(Proximity, WallsAreSeen) {
+  // 4 x 4 arena with 10 cm walls: the inner face of the east wall is at x = 1.9.
+  auto sim = LoadXml(Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>" + Robot("r", "1.76,0,0"), Controllers()));
+  sim->Step();
+  EXPECT_NEAR(Readings(*sim, "r")[0].value, 0.01 / RayToPlane(DegToRad(7.5), 1.9 - 1.76), 1e-4);
+}
+
+std::vector<float> Values(Simulation& sim, const std::string& robot) {
+  std::vector<float> v;
+  for (const auto& x : Readings(sim, robot)) v.push_back(x.value);
+  return v;
+}
+
+TEST(Proximity, GaussianNoiseIsReproducibleWithTheSameSeed) {
+  const std::string arena = Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.185,0,0");
+  const std::string noisy = Controllers("noise=\"gaussian\" noise_std_dev=\"0.05\"");
+  auto clean = LoadXml(Experiment(arena, Controllers()));
+  auto a = LoadXml(Experiment(arena, noisy));
+  auto b = LoadXml(Experiment(arena, noisy));
+  auto other_seed = LoadXml(Experiment(arena, noisy), {"framework.experiment.random_seed=8"});
+  for (int t = 0; t < 5; ++t) {
+    clean->Step();
+    a->Step();
+    b->Step();
+    other_seed->Step();
+    EXPECT_EQ(Values(*a, "r"), Values(*b, "r")) << "tick " << t;
+    EXPECT_NE(Values(*a, "r"), Values(*clean, "r")) << "tick " << t;
+    EXPECT_NE(Values(*a, "r"), Values(*other_seed, "r")) << "tick " << t;
+    for (float v : Values(*a, "r")) {
+      EXPECT_GE(v, 0.0f);
+      EXPECT_LE(v, 1.0f);
+    }
+  }
+  // Noise stays around the clean value: 0.05 standard deviation.
+  EXPECT_NEAR(Values(*a, "r")[0], Values(*clean, "r")[0], 0.25);
+  // And it changes from tick to tick.
+  const auto before = Values(*a, "r");
+  a->Step();
+  EXPECT_NE(Values(*a, "r"), before);
+}
+
+TEST(Proximity, UniformNoiseStaysWithinItsRange) {
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.185,0,0"),
+                                Controllers("noise=\"uniform\" noise_range=\"-0.02,0.02\"")));
+  const double clean = 0.01 / RayToPlane(DegToRad(7.5), 0.135);
+  bool changed = false;
+  for (int t = 0; t < 20; ++t) {
+    sim->Step();
+    const auto& r = Readings(*sim, "r");
+    EXPECT_NEAR(r[0].value, clean, 0.02 + 1e-6);
+    changed = changed || std::abs(r[0].value - clean) > 1e-6;
+    // Nothing behind: noise on 0, clamped at 0.
+    EXPECT_GE(r[12].value, 0.0f);
+    EXPECT_LE(r[12].value, 0.02f + 1e-6f);
+  }
+  EXPECT_TRUE(changed);
+}
+
+TEST(Proximity, DroppedReadingsReadZero) {
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.185,0,0"),
+                                Controllers("drop_probability=\"1\"")));
+  sim->Step();
+  EXPECT_EQ(MaxOf(Readings(*sim, "r")), 0.0f);
+}
+
+TEST(Proximity, NoiseAttributesAreChecked) {
+  const std::string robot = Robot("r", "0,0,0");
+  const std::string missing = LoadError(Experiment(robot, Controllers("noise=\"gaussian\"")));
+  EXPECT_NE(missing.find("noise_std_dev"), std::string::npos) << missing;
+  const std::string kind = LoadError(Experiment(robot, Controllers("noise=\"gausian\" noise_std_dev=\"0.1\"")));
+  EXPECT_NE(kind.find("did you mean 'gaussian'"), std::string::npos) << kind;
+  const std::string range = LoadError(Experiment(robot, Controllers("noise=\"uniform\" noise_range=\"0.1,-0.1\"")));
+  EXPECT_NE(range.find("noise_range"), std::string::npos) << range;
+  const std::string drop = LoadError(Experiment(robot, Controllers("drop_probability=\"1.5\"")));
+  EXPECT_NE(drop.find("drop_probability"), std::string::npos) << drop;
+}
+
+TEST(Proximity, ReadingsUpdateAsTheWorldChanges) {
+  // A box added at run time is seen from the next tick; removed, it is gone.
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0"), Controllers()));
+  sim->Step();
+  EXPECT_EQ(MaxOf(Readings(*sim, "r")), 0.0f);
+  const EntityHandle box = sim->AddEntity(Box("b", "0.1,0.6,0.2", "0.185,0,0"));
+  sim->Step();
+  EXPECT_GT(Readings(*sim, "r")[0].value, 0.18f);
+  sim->RemoveEntity(box);
+  sim->Step();
+  EXPECT_EQ(MaxOf(Readings(*sim, "r")), 0.0f);
+}
+
+}  // namespace
+}  // namespace colony

@@ -71,7 +71,7 @@ class EncoderSystem : public SensorSystem {
 };
 
 std::vector<AttributeDoc> EncoderAttributes() {
-  auto a = NoiseModel::Attributes();
+  auto a = NoiseModel::Attributes(/*with_drop=*/false);
   a.push_back({"slip", "a number in [0, 1]", "0",
                "scale of random wheel slip (distance lost), larger when turning"});
   return a;
