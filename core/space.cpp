@@ -110,16 +110,6 @@ void Space::SetArena(const Vec3& center, const Vec3& size) {
   index_dirty_ = static_dirty_ = true;
 }
 
-int Space::CellX(double x) const {
-  const int c = static_cast<int>((x - arena_min_.x()) * inv_cell_);
-  return std::clamp(c, 0, movable_grid_.nx - 1);
-}
-
-int Space::CellY(double y) const {
-  const int c = static_cast<int>((y - arena_min_.y()) * inv_cell_);
-  return std::clamp(c, 0, movable_grid_.ny - 1);
-}
-
 void Space::ConfigureGrid() {
   // Cells of at least 0.5 m and at least one movable body across: a
   // neighbour query then touches a handful of cells.
@@ -127,21 +117,18 @@ void Space::ConfigureGrid() {
   const Vec3 extent = arena_max_ - arena_min_;
   const int nx = std::max(1, static_cast<int>(std::ceil(extent.x() / cell)));
   const int ny = std::max(1, static_cast<int>(std::ceil(extent.y() / cell)));
-  if (cell == cell_ && nx == movable_grid_.nx && ny == movable_grid_.ny) return;
+  if (cell == cell_ && nx == nx_ && ny == ny_ && !cell_start_.empty()) return;
   cell_ = cell;
   inv_cell_ = 1.0 / cell;
-  for (Grid* g : {&movable_grid_, &static_grid_}) {
-    g->nx = nx;
-    g->ny = ny;
-    g->start.assign(static_cast<size_t>(nx) * ny + 1, 0);
-  }
+  nx_ = nx;
+  ny_ = ny;
+  cell_start_.assign(static_cast<size_t>(nx) * ny + 1, CellStart{});
   static_dirty_ = true;
 }
 
 void Space::BuildMovableGrid() {
-  Grid& g = movable_grid_;
-  const size_t cells = static_cast<size_t>(g.nx) * g.ny;
-  std::fill(g.start.begin(), g.start.end(), 0);
+  const size_t cells = static_cast<size_t>(nx_) * ny_;
+  for (CellStart& c : cell_start_) c.movable = 0;
   cell_scratch_.resize(slots());
   const uint32_t n = slots();
   // Counting sort of movable solid entities by the cell of their centre.
@@ -151,39 +138,43 @@ void Space::BuildMovableGrid() {
       continue;
     }
     const Vec3& p = poses_[i].position;
-    const uint32_t c = static_cast<uint32_t>(CellY(p.y()) * g.nx + CellX(p.x()));
+    const uint32_t c = static_cast<uint32_t>(CellY(p.y()) * nx_ + CellX(p.x()));
     cell_scratch_[i] = c;
-    ++g.start[c + 1];
+    ++cell_start_[c + 1].movable;
   }
-  for (size_t c = 0; c < cells; ++c) g.start[c + 1] += g.start[c];
-  g.items.resize(g.start[cells]);
+  for (size_t c = 0; c < cells; ++c) cell_start_[c + 1].movable += cell_start_[c].movable;
+  movable_items_.resize(cell_start_[cells].movable);
   std::vector<uint32_t>& cursor = cell_cursor_;
-  cursor.assign(g.start.begin(), g.start.end() - 1);
+  cursor.resize(cells);
+  for (size_t c = 0; c < cells; ++c) cursor[c] = cell_start_[c].movable;
   for (uint32_t i = 0; i < n; ++i) {
-    if (cell_scratch_[i] != UINT32_MAX) g.items[cursor[cell_scratch_[i]]++] = i;
+    if (cell_scratch_[i] != UINT32_MAX) movable_items_[cursor[cell_scratch_[i]]++] = i;
   }
 }
 
 void Space::BuildStaticGrid() {
-  Grid& g = static_grid_;
-  const size_t cells = static_cast<size_t>(g.nx) * g.ny;
-  std::vector<std::vector<uint32_t>> per_cell(cells);
-  for (uint32_t i = 0; i < slots(); ++i) {
-    if ((flags_[i] & (kAlive | kMovable | kSolid)) != (kAlive | kSolid)) continue;
-    const Vec2 half = FootprintHalfExtents(geometries_[i], poses_[i].orientation);
-    const Vec3& p = poses_[i].position;
-    for (int cy = CellY(p.y() - half.y()); cy <= CellY(p.y() + half.y()); ++cy) {
-      for (int cx = CellX(p.x() - half.x()); cx <= CellX(p.x() + half.x()); ++cx) {
-        per_cell[static_cast<size_t>(cy) * g.nx + cx].push_back(i);
+  const size_t cells = static_cast<size_t>(nx_) * ny_;
+  // Two passes over the fixed solid entities: count the entries of each cell,
+  // then place them (slot order within a cell).
+  auto for_each_entry = [&](auto&& fn) {
+    for (uint32_t i = 0; i < slots(); ++i) {
+      if ((flags_[i] & (kAlive | kMovable | kSolid)) != (kAlive | kSolid)) continue;
+      const Vec2 half = FootprintHalfExtents(geometries_[i], poses_[i].orientation);
+      const Vec3& p = poses_[i].position;
+      for (int cy = CellY(p.y() - half.y()); cy <= CellY(p.y() + half.y()); ++cy) {
+        for (int cx = CellX(p.x() - half.x()); cx <= CellX(p.x() + half.x()); ++cx) {
+          fn(static_cast<size_t>(cy) * nx_ + cx, i);
+        }
       }
     }
-  }
-  g.items.clear();
-  for (size_t c = 0; c < cells; ++c) {
-    g.start[c] = static_cast<uint32_t>(g.items.size());
-    g.items.insert(g.items.end(), per_cell[c].begin(), per_cell[c].end());
-  }
-  g.start[cells] = static_cast<uint32_t>(g.items.size());
+  };
+  for (CellStart& c : cell_start_) c.fixed = 0;
+  for_each_entry([&](size_t c, uint32_t) { ++cell_start_[c + 1].fixed; });
+  for (size_t c = 0; c < cells; ++c) cell_start_[c + 1].fixed += cell_start_[c].fixed;
+  fixed_items_.resize(cell_start_[cells].fixed);
+  std::vector<uint32_t> cursor(cells);
+  for (size_t c = 0; c < cells; ++c) cursor[c] = cell_start_[c].fixed;
+  for_each_entry([&](size_t c, uint32_t i) { fixed_items_[cursor[c]++] = i; });
   static_dirty_ = false;
 }
 
@@ -199,19 +190,21 @@ void Space::Gather(double x0, double y0, double x1, double y1, std::vector<uint3
   const double m = max_movable_radius_;
   const int cx0 = CellX(x0 - m), cx1 = CellX(x1 + m);
   const int cy0 = CellY(y0 - m), cy1 = CellY(y1 + m);
-  const Grid& g = movable_grid_;
   for (int cy = cy0; cy <= cy1; ++cy) {
-    const size_t row = static_cast<size_t>(cy) * g.nx;
-    for (uint32_t k = g.start[row + cx0]; k < g.start[row + cx1 + 1]; ++k) out.push_back(g.items[k]);
+    const size_t row = static_cast<size_t>(cy) * nx_;
+    const uint32_t end = cell_start_[row + cx1 + 1].movable;
+    for (uint32_t k = cell_start_[row + cx0].movable; k < end; ++k) {
+      out.push_back(movable_items_[k]);
+    }
   }
   // Non-movable ones may sit in several cells: keep each once.
   const size_t first_static = out.size();
-  const Grid& s = static_grid_;
   const int sx0 = CellX(x0), sx1 = CellX(x1), sy0 = CellY(y0), sy1 = CellY(y1);
   for (int cy = sy0; cy <= sy1; ++cy) {
-    const size_t row = static_cast<size_t>(cy) * s.nx;
-    for (uint32_t k = s.start[row + sx0]; k < s.start[row + sx1 + 1]; ++k) {
-      const uint32_t e = s.items[k];
+    const size_t row = static_cast<size_t>(cy) * nx_;
+    const uint32_t end = cell_start_[row + sx1 + 1].fixed;
+    for (uint32_t k = cell_start_[row + sx0].fixed; k < end; ++k) {
+      const uint32_t e = fixed_items_[k];
       if (std::find(out.begin() + first_static, out.end(), e) == out.end()) out.push_back(e);
     }
   }

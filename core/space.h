@@ -6,6 +6,7 @@
 // an EntityHandle (slot + generation) that detects reuse of a freed slot.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -158,6 +159,9 @@ class Space {
   // Appends to `out` every solid entity whose footprint may overlap the
   // rectangle [x0, x1] x [y0, y1], each once, in slot order per grid cell.
   void Gather(double x0, double y0, double x1, double y1, std::vector<uint32_t>& out) const;
+  // The movable solid entities' slots grouped by grid cell, cells row by row,
+  // as of the last UpdateIndex: a spatially coherent order for sweeps.
+  const std::vector<uint32_t>& movable_by_cell() const { return movable_items_; }
   // Largest bounding radius among movable solid entities (m).
   double max_movable_radius() const { return max_movable_radius_; }
   double cell_size() const { return cell_; }
@@ -166,16 +170,26 @@ class Space {
   void Hash(StateHasher& h) const;
 
  private:
-  struct Grid {
-    int nx = 0, ny = 0;
-    std::vector<uint32_t> start;  // nx*ny + 1 offsets into items
-    std::vector<uint32_t> items;  // entity slots, grouped by cell
+  // Where a cell's entries start in movable_items_ and fixed_items_. The two
+  // tables are interleaved so that a query reads one cache line per row of
+  // cells for both kinds: the grid is read once or twice per robot per tick,
+  // at random places, and these lookups were the cost of a query.
+  struct CellStart {
+    uint32_t movable = 0;
+    uint32_t fixed = 0;
   };
   void ConfigureGrid();
   void BuildMovableGrid();
   void BuildStaticGrid();
-  int CellX(double x) const;
-  int CellY(double y) const;
+  // Inline: called for every query box corner, several times per robot per tick.
+  int CellX(double x) const {
+    const int c = static_cast<int>((x - arena_min_.x()) * inv_cell_);
+    return std::clamp(c, 0, nx_ - 1);
+  }
+  int CellY(double y) const {
+    const int c = static_cast<int>((y - arena_min_.y()) * inv_cell_);
+    return std::clamp(c, 0, ny_ - 1);
+  }
 
   // Hot arrays, indexed by slot.
   std::vector<uint8_t> flags_;
@@ -205,11 +219,14 @@ class Space {
   Vec3 arena_min_ = Vec3(-1, -1, 0), arena_max_ = Vec3(1, 1, 1);
   Floor floor_;
 
-  // Spatial index: movable entities by the cell of their centre (rebuilt
-  // every tick); non-movable ones in every cell their footprint touches
-  // (rebuilt only when they change).
+  // Spatial index, a uniform grid over the arena: movable solid entities by
+  // the cell of their centre (rebuilt every tick); non-movable solid ones in
+  // every cell their footprint touches (rebuilt only when they change).
   double cell_ = 0.5, inv_cell_ = 2.0;
-  Grid movable_grid_, static_grid_;
+  int nx_ = 0, ny_ = 0;
+  std::vector<CellStart> cell_start_;    // nx*ny + 1, row by row
+  std::vector<uint32_t> movable_items_;  // entity slots grouped by cell
+  std::vector<uint32_t> fixed_items_;
   bool index_dirty_ = true, static_dirty_ = true;
   double max_movable_radius_ = 0;
   std::vector<uint32_t> cell_scratch_;

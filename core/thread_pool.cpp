@@ -60,8 +60,10 @@ void ThreadPool::ParallelFor(size_t n, size_t min_chunk,
     fn(0, n);
     return;
   }
-  // A few chunks per thread balances uneven work.
-  const size_t chunk = std::max(min_chunk, (n + threads_ * 4 - 1) / (threads_ * 4));
+  // Many chunks per thread (16) balance uneven work: every phase of a tick
+  // ends at this barrier, and with few large chunks one thread sat idle for
+  // up to a chunk at each of them. Taking a chunk costs one lock.
+  const size_t chunk = std::max(min_chunk, (n + threads_ * 16 - 1) / (threads_ * 16));
   std::unique_lock lock(mutex_);
   job_ = &fn;
   n_ = n;

@@ -13,6 +13,7 @@
 // (use dynamics2d to push things).
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <vector>
 
 #include "core/engine.h"
@@ -50,13 +51,27 @@ COLONY_REGISTER_PHYSICS_MODEL(ObstacleModel, "kinematics2d:box",
 COLONY_REGISTER_PHYSICS_MODEL(ObstacleModel, "kinematics2d:cylinder",
                               "fixed obstacle, movable or not (not pushed in this engine)");
 
+// Memory layout. A step sweeps the robots three times: proposals and commit
+// read and write each robot's own state in the space (pose, drive, twist),
+// and the collision test reads each robot's neighbours. The space stores
+// entities by slot, roughly in the order they were added, which for a swarm
+// placed at random has nothing to do with where they are. So proposals and
+// commit run in the order the robots were added (streaming through the
+// space's arrays), while everything the collision test reads about robots
+// (Body, proposal, blocked flag) is stored by *spatial rank*, the robot's
+// position in the space's cell-by-cell order, and the test runs in that
+// order: a robot's neighbours then sit next to it in memory. None of this
+// changes the results: each proposal and commit is the robot's own, and the
+// set of blocked robots is the same whatever the order it is computed in.
 class Kinematics2dEngine : public PhysicsEngine {
  public:
   void AddEntity(EntityHandle entity, const PhysicsModel& model) override {
     const auto& m = dynamic_cast<const Kinematics2dModel&>(model);
     if (!m.driven() || !sim().space().drive(entity.index)) return;  // obstacles are read from the space
+    // Incremental (not Reindex()): loading 100,000 robots must stay linear.
+    if (robot_index_.size() <= entity.index) robot_index_.resize(entity.index + 1, -1);
+    robot_index_[entity.index] = static_cast<int32_t>(robots_.size());
     robots_.push_back(entity.index);
-    Reindex();
   }
 
   void RemoveEntity(EntityHandle entity) override {
@@ -70,27 +85,36 @@ class Kinematics2dEngine : public PhysicsEngine {
     Space& space = sim().space();
     const size_t n = robots_.size();
     if (n == 0) return;
+    RankBySpace(space);
     candidate_.resize(n);
     yaw_.resize(n);
+    heading_.resize(n);
+    body_.resize(n);
+    first_.resize(n);
     blocked_.assign(n, 0);
-    newly_.assign(n, 0);
+    sensitive_.assign(n, 0);
     ThreadPool& pool = sim().pool();
 
-    // Proposals.
+    // Proposals, in robot order; results stored by rank.
     std::atomic<double> max_step{0.0};
     pool.ParallelFor(n, 256, [&](size_t b, size_t e) {
       double local_max = 0;
       for (size_t i = b; i < e; ++i) {
         const uint32_t s = robots_[i];
+        const uint32_t k = rank_[i];
         const DriveState& d = *space.drive(s);
         const Pose& pose = space.pose(s);
+        const Geometry& g = space.geometry(s);
+        body_[k] = {pose.position.head<2>(), pose.position.z(), pose.position.z() + g.height(),
+                    g.radius};
         const double v = 0.5 * (d.left + d.right);
         const double w = (d.right - d.left) / d.wheel_base;
-        const double yaw0 = YawOf(pose.orientation);
+        Heading& h = heading_[i];
+        const double yaw0 = h.YawOf(pose.orientation);
         const double mid = yaw0 + 0.5 * w * dt;
         // Chord of the arc driven at constant v and w.
         const double chord = std::abs(w * dt) > 1e-12 ? v * dt * std::sin(0.5 * w * dt) / (0.5 * w * dt) : v * dt;
-        candidate_[i] = pose.position.head<2>() + chord * Vec2(std::cos(mid), std::sin(mid));
+        candidate_[k] = pose.position.head<2>() + chord * h.Direction(mid);
         yaw_[i] = yaw0 + w * dt;
         local_max = std::max(local_max, std::abs(chord));
       }
@@ -100,96 +124,198 @@ class Kinematics2dEngine : public PhysicsEngine {
     });
     const double margin = max_step.load();
 
-    // Block proposals that overlap, until none does.
-    bool changed = true;
-    while (changed) {
-      pool.ParallelFor(n, 128, [&](size_t b, size_t e) {
-        static thread_local std::vector<uint32_t> near;
-        for (size_t i = b; i < e; ++i) {
-          if (blocked_[i]) continue;
-          newly_[i] = Collides(space, i, margin, near) ? 1 : 0;
-        }
-      });
-      changed = false;
-      for (size_t i = 0; i < n; ++i) {
-        if (newly_[i]) {
-          blocked_[i] = 1;
-          newly_[i] = 0;
-          changed = true;
-        }
+    // Block proposals that overlap, until none does. The first round tests
+    // every robot (in rank order) against the others' proposals and notes
+    // the robots that would overlap a neighbour if that neighbour were
+    // blocked where it stands now ("sensitive"). Only those can be blocked in
+    // a later round, so later rounds retest just them: the same rounds, with
+    // the same outcome, as retesting every robot.
+    pool.ParallelFor(n, 128, [&](size_t b, size_t e) {
+      std::vector<uint32_t> near;  // per chunk (a thread_local costs a lookup per robot)
+      near.reserve(64);
+      for (size_t k = b; k < e; ++k) {
+        first_[k] = Collides(space, k, margin, near, &sensitive_[k]) ? 1 : 0;
       }
+    });
+    blocked_.swap(first_);
+    retest_.clear();
+    for (uint32_t k = 0; k < n; ++k) {
+      if (!blocked_[k] && sensitive_[k]) retest_.push_back(k);
+    }
+    bool changed = !retest_.empty();
+    while (changed) {
+      newly_.clear();
+      for (uint32_t k : retest_) {
+        if (!blocked_[k] && Collides(space, k, margin, near_, nullptr)) newly_.push_back(k);
+      }
+      for (uint32_t k : newly_) blocked_[k] = 1;
+      changed = !newly_.empty();
     }
 
-    // Commit.
+    // Commit, in robot order.
     pool.ParallelFor(n, 256, [&](size_t b, size_t e) {
       for (size_t i = b; i < e; ++i) {
         const uint32_t s = robots_[i];
+        const uint32_t k = rank_[i];
         DriveState& d = *space.drive(s);
         Pose& pose = space.pose(s);
         Twist& twist = space.twist(s);
         const double w = (d.right - d.left) / d.wheel_base;
-        pose.orientation = FromYaw(WrapAngle(yaw_[i]));
+        pose.orientation = heading_[i].FromYaw(yaw_[i]);
         twist.angular = Vec3(0, 0, w);
-        if (blocked_[i]) {
+        if (blocked_[k]) {
           // Wheels only turn the robot on the spot; the rest slips.
           twist.linear.setZero();
           d.travelled_left = -0.5 * w * d.wheel_base * dt;
           d.travelled_right = 0.5 * w * d.wheel_base * dt;
         } else {
-          const Vec2 delta = candidate_[i] - pose.position.head<2>();
+          const Vec2 delta = candidate_[k] - pose.position.head<2>();
           twist.linear = Vec3(delta.x() / dt, delta.y() / dt, 0);
-          pose.position.head<2>() = candidate_[i];
+          pose.position.head<2>() = candidate_[k];
           d.travelled_left = d.left * dt;
           d.travelled_right = d.right * dt;
         }
-        space.set_in_contact(s, blocked_[i]);
+        space.set_in_contact(s, blocked_[k]);
       }
     });
   }
 
  private:
+  // The heading conversions of one robot (atan2, sin, cos), remembered from
+  // its last step. A robot driving straight has the same orientation, heading
+  // and direction tick after tick, and recomputing them was a tenth of the
+  // whole step. Inputs are compared bit for bit, so a remembered output is
+  // exactly what computing afresh would give.
+  class Heading {
+   public:
+    double YawOf(const Quat& q) {
+      if (!Same(q, q_)) {
+        q_ = q;
+        yaw_ = colony::YawOf(q);
+      }
+      return yaw_;
+    }
+    // Unit vector at angle `a`.
+    Vec2 Direction(double a) {
+      if (!Same(a, angle_)) {
+        angle_ = a;
+        direction_ = Vec2(std::cos(a), std::sin(a));
+      }
+      return direction_;
+    }
+    // The orientation of heading `yaw`, wrapped to (-pi, pi].
+    Quat FromYaw(double yaw) {
+      if (!Same(yaw, to_yaw_)) {
+        to_yaw_ = yaw;
+        to_q_ = colony::FromYaw(WrapAngle(yaw));
+      }
+      return to_q_;
+    }
+
+   private:
+    static bool Same(double a, double b) {
+      return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b);
+    }
+    static bool Same(const Quat& a, const Quat& b) {
+      return Same(a.x(), b.x()) && Same(a.y(), b.y()) && Same(a.z(), b.z()) && Same(a.w(), b.w());
+    }
+    // (input, output) pairs, starting from true pairs so that a match is
+    // always right.
+    Quat q_ = Quat::Identity(), to_q_ = colony::FromYaw(WrapAngle(0.0));
+    Vec2 direction_ = Vec2(std::cos(0.0), std::sin(0.0));
+    double yaw_ = colony::YawOf(Quat::Identity()), angle_ = 0.0, to_yaw_ = 0.0;
+  };
+
+  // What the collision test reads about a robot, copied from the space at
+  // the start of the step (so it is exact), stored by rank.
+  struct Body {
+    Vec2 position;       // where it stands now
+    double bottom, top;  // height span (m)
+    double radius;
+  };
+
   void Reindex() {
     robot_index_.assign(sim().space().slots(), -1);
     for (size_t i = 0; i < robots_.size(); ++i) robot_index_[robots_[i]] = static_cast<int32_t>(i);
+    rank_of_slot_.assign(sim().space().slots(), -1);
   }
 
-  // Whether robot i's proposal overlaps the arena's edge or anything solid,
-  // taking other robots of this engine at their proposal (or where they
-  // stay, if blocked).
-  bool Collides(const Space& space, size_t i, double margin, std::vector<uint32_t>& near) const {
-    const uint32_t s = robots_[i];
-    const Geometry& g = space.geometry(s);
-    const double r = g.radius;
-    const Vec2& c = candidate_[i];
+  // Ranks the robots in the order of the space's grid cells as of its last
+  // index update (robots not in the index, if any, come last).
+  void RankBySpace(const Space& space) {
+    const size_t n = robots_.size();
+    rank_.assign(n, UINT32_MAX);
+    slot_at_.clear();
+    for (uint32_t s : space.movable_by_cell()) {
+      const int32_t i = s < robot_index_.size() ? robot_index_[s] : -1;
+      if (i < 0) continue;
+      rank_[i] = static_cast<uint32_t>(slot_at_.size());
+      slot_at_.push_back(s);
+    }
+    for (size_t i = 0; slot_at_.size() < n && i < n; ++i) {
+      if (rank_[i] != UINT32_MAX) continue;
+      rank_[i] = static_cast<uint32_t>(slot_at_.size());
+      slot_at_.push_back(robots_[i]);
+    }
+    if (rank_of_slot_.size() < space.slots()) rank_of_slot_.resize(space.slots(), -1);
+    for (size_t k = 0; k < n; ++k) rank_of_slot_[slot_at_[k]] = static_cast<int32_t>(k);
+  }
+
+  // Whether the proposal of the robot of rank k overlaps the arena's edge or
+  // anything solid, taking other robots of this engine at their proposal (or
+  // where they stay, if blocked). If `sensitive` is given and there is no
+  // overlap, it is set when the proposal would overlap some robot of this
+  // engine standing where it is now.
+  bool Collides(const Space& space, size_t k, double margin, std::vector<uint32_t>& near,
+                uint8_t* sensitive) const {
+    const uint32_t s = slot_at_[k];
+    const Body& self = body_[k];
+    const double r = self.radius;
+    const Vec2& c = candidate_[k];
     const Vec3& lo = space.arena_min();
     const Vec3& hi = space.arena_max();
     if (c.x() - r < lo.x() || c.x() + r > hi.x() || c.y() - r < lo.y() || c.y() + r > hi.y()) return true;
-    const double z0 = space.pose(s).position.z(), z1 = z0 + g.height();
+    const double z0 = self.bottom, z1 = self.top;
     near.clear();
     const double reach = r + margin;
     space.Gather(c.x() - reach, c.y() - reach, c.x() + reach, c.y() + reach, near);
+    bool close = false;
     for (uint32_t o : near) {
       if (o == s) continue;
-      const Pose& other = space.pose(o);
-      const Geometry& og = space.geometry(o);
-      if (other.position.z() >= z1 || z0 >= other.position.z() + og.height()) continue;
-      const int32_t j = o < robot_index_.size() ? robot_index_[o] : -1;
+      const int32_t j = o < rank_of_slot_.size() ? rank_of_slot_[o] : -1;
       if (j >= 0) {
-        const Vec2 p = blocked_[j] ? other.position.head<2>() : candidate_[j];
-        const double rr = r + og.radius;
+        const Body& other = body_[j];
+        if (other.bottom >= z1 || z0 >= other.top) continue;
+        const double rr = r + other.radius;
+        const Vec2& p = blocked_[j] ? other.position : candidate_[j];
         if ((p - c).squaredNorm() < rr * rr) return true;
-      } else if (CircleOverlapsFootprint(c, r, other, og)) {
-        return true;
+        close = close || (other.position - c).squaredNorm() < rr * rr;
+      } else {
+        const Pose& other = space.pose(o);
+        const Geometry& og = space.geometry(o);
+        if (other.position.z() >= z1 || z0 >= other.position.z() + og.height()) continue;
+        if (CircleOverlapsFootprint(c, r, other, og)) return true;
       }
     }
+    if (sensitive) *sensitive = close ? 1 : 0;
     return false;
   }
 
-  std::vector<uint32_t> robots_;       // space slots of the wheeled robots
-  std::vector<int32_t> robot_index_;   // per space slot: index in robots_, or -1
-  std::vector<Vec2> candidate_;
-  std::vector<double> yaw_;
-  std::vector<uint8_t> blocked_, newly_;
+  // By robot index (the order robots were added):
+  std::vector<uint32_t> robots_;  // space slots of the wheeled robots
+  std::vector<uint32_t> rank_;    // spatial rank of each robot
+  std::vector<double> yaw_;       // proposed heading
+  std::vector<Heading> heading_;
+  // By spatial rank:
+  std::vector<uint32_t> slot_at_;  // space slot of the robot of each rank
+  std::vector<Body> body_;
+  std::vector<Vec2> candidate_;  // proposed position
+  std::vector<uint8_t> blocked_, first_, sensitive_;
+  // By space slot:
+  std::vector<int32_t> robot_index_;   // index in robots_, or -1
+  std::vector<int32_t> rank_of_slot_;  // rank, or -1
+  // Scratch.
+  std::vector<uint32_t> retest_, newly_, near_;
 };
 
 COLONY_REGISTER_ENGINE(Kinematics2dEngine, "kinematics2d",

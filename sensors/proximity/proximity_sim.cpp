@@ -5,7 +5,11 @@
 // then noise is added and the value clamped to [0, 1].
 #include "sensors/proximity/proximity.h"
 
+#include <algorithm>
 #include <cmath>
+#include <deque>
+#include <utility>
+#include <vector>
 
 #include "core/device.h"
 #include "core/entity_type.h"
@@ -19,7 +23,10 @@ struct ProximityInstance : ProximitySensor, InstanceBase {
   using Interface = ProximitySensor;
   std::vector<Reading>& mutable_readings() { return readings_; }
   const RingMount* mount = nullptr;
-  std::vector<Vec2> directions;  // unit vectors in the robot frame
+  // Unit vectors of the sensors in the robot frame, one per reading. Shared by
+  // every robot with the same ring (owned by the system): a private copy
+  // would cost 24 x 16 bytes per robot.
+  const Vec2* directions = nullptr;
 };
 
 class ProximitySystem : public SensorSystem {
@@ -36,18 +43,23 @@ class ProximitySystem : public SensorSystem {
     p.mount = mount;
     p.mutable_readings().resize(mount->count);
     for (int i = 0; i < mount->count; ++i) {
-      const double a = mount->AngleOf(i);
-      p.mutable_readings()[i] = {0.0f, static_cast<float>(WrapAngle(a))};
-      p.directions.emplace_back(std::cos(a), std::sin(a));
+      p.mutable_readings()[i] = {0.0f, static_cast<float>(WrapAngle(mount->AngleOf(i)))};
     }
+    p.directions = DirectionsOf(*mount);
     return &p;
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<ProximitySensor*>(s)); }
   size_t size() const override { return instances_.size(); }
 
+  // Most robots of a swarm have nothing within the few centimetres their
+  // sensors reach, so neighbours are first culled by distance (cheap, from
+  // the centres) and the 24 rays are only cast against what survives. The
+  // cull keeps every footprint that a ray could hit within range, so the
+  // readings are exactly those of casting every ray at every gathered entity.
   void Update(size_t begin, size_t end) override {
     const Space& space = sim().space();
-    static thread_local std::vector<uint32_t> near;
+    std::vector<uint32_t> near;  // per chunk (a thread_local costs a lookup per robot)
+    near.reserve(64);
     for (size_t k = begin; k < end; ++k) {
       ProximityInstance& p = instances_[k];
       if (!p.alive) continue;
@@ -60,30 +72,40 @@ class ProximitySystem : public SensorSystem {
       const double z = pose.position.z() + m.elevation;
       near.clear();
       space.Gather(c.x() - reach, c.y() - reach, c.x() + reach, c.y() + reach, near);
-      // Keep the neighbours whose height spans the sensors' plane.
+      // Keep the neighbours whose height spans the sensors' plane and whose
+      // footprint comes within `reach` of the robot's axis: a ray hit at a
+      // distance t <= range from the body's surface lies m.radius + t from the
+      // axis, so a footprint whose bounding circle is farther away cannot give
+      // a reading. (The small slack only guards against rounding.)
       size_t kept = 0;
       for (uint32_t o : near) {
         if (o == self) continue;
-        const double oz = space.pose(o).position.z();
-        if (z >= oz && z < oz + space.geometry(o).height()) near[kept++] = o;
+        const Vec3& op = space.pose(o).position;
+        const Geometry& og = space.geometry(o);
+        if (!(z >= op.z() && z < op.z() + og.height())) continue;
+        const double limit = reach + og.BoundingRadius() + 1e-6;
+        if ((op.head<2>() - c).squaredNorm() >= limit * limit) continue;
+        near[kept++] = o;
       }
       near.resize(kept);
+      auto& readings = p.mutable_readings();
+      if (near.empty()) {
+        // Nothing in range: every ray misses.
+        for (auto& r : readings) r.value = static_cast<float>(Noisy(0.0, p.rng));
+        continue;
+      }
       const double yaw = YawOf(pose.orientation);
       const double cy = std::cos(yaw), sy = std::sin(yaw);
-      auto& readings = p.mutable_readings();
       for (size_t i = 0; i < readings.size(); ++i) {
         const Vec2& l = p.directions[i];
         const Vec2 dir(cy * l.x() - sy * l.y(), sy * l.x() + cy * l.y());
+        const Vec2 origin = c + m.radius * dir;
         double best = kNoHit;
-        if (!near.empty()) {
-          const Vec2 origin = c + m.radius * dir;
-          for (uint32_t o : near) best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
+        for (uint32_t o : near) {
+          best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
         }
-        double value = best <= range ? std::min(1.0, 0.01 / std::max(best, 1e-6)) : 0.0;
-        if (noise_.enabled()) {
-          value = noise_.Drop(p.rng) ? 0.0 : std::clamp(noise_.Apply(value, p.rng), 0.0, 1.0);
-        }
-        readings[i].value = static_cast<float>(value);
+        const double value = best <= range ? std::min(1.0, 0.01 / std::max(best, 1e-6)) : 0.0;
+        readings[i].value = static_cast<float>(Noisy(value, p.rng));
       }
     }
   }
@@ -96,9 +118,30 @@ class ProximitySystem : public SensorSystem {
   }
 
  private:
+  double Noisy(double value, RandomStream& rng) const {
+    if (!noise_.enabled()) return value;
+    return noise_.Drop(rng) ? 0.0 : std::clamp(noise_.Apply(value, rng), 0.0, 1.0);
+  }
+
+  // The sensors' directions of a ring, computed once per ring.
+  const Vec2* DirectionsOf(const RingMount& mount) {
+    for (const auto& [ring, directions] : directions_) {
+      if (ring == &mount) return directions.data();
+    }
+    std::vector<Vec2> directions;
+    for (int i = 0; i < mount.count; ++i) {
+      const double a = mount.AngleOf(i);
+      directions.emplace_back(std::cos(a), std::sin(a));
+    }
+    directions_.emplace_back(&mount, std::move(directions));
+    return directions_.back().second.data();
+  }
+
   double range_ = -1;
   NoiseModel noise_;
   InstanceStore<ProximityInstance> instances_;
+  // Per ring mount (one per robot type); a deque keeps the tables in place.
+  std::deque<std::pair<const RingMount*, std::vector<Vec2>>> directions_;
 };
 
 std::vector<AttributeDoc> ProximityAttributes() {

@@ -1,0 +1,281 @@
+// colony_bench: speed and memory of fixed benchmark scenes.
+//
+//   colony_bench FILE.xml... [--threads N] [--repeat K] [--ticks T] [--set PATH=VALUE]...
+//
+// For each scene: loads it K times (default 3); each time runs T ticks (default:
+// the file's length) and measures
+//   - robot-steps per second: robots x ticks / seconds spent inside
+//     Simulation::Step (loading and set-up excluded);
+//   - load seconds (Simulation::Load: parsing, placement, plugin set-up);
+//   - memory per robot: (peak resident set during load + run - resident set
+//     before loading) / robots, in bytes; and the resident set growth during
+//     the load alone.
+// Peak memory is the kernel's VmHWM. Before each repetition the previous
+// simulation is destroyed, freed memory is handed back to the system
+// (malloc_trim) and VmHWM is reset to the current resident set (writing 5 to
+// /proc/self/clear_refs), so each repetition measures its own peak. Where
+// the reset is not allowed, the first repetition is still exact and later
+// ones are marked "(hwm not reset)".
+//
+// It also reports the CPU time of the process over the stepping loop: as
+// "cores busy" (CPU seconds / step seconds; below the thread count when
+// threads wait, or when other programs take the cores) and per robot-step,
+// which is steadier than wall time on a shared machine.
+//
+// Prints one line per repetition, the medians, and one machine-readable line
+// per scene:
+//   RESULT scene=NAME robots=N threads=T ticks=K steps_per_s_median=...
+//          load_s_median=... bytes_per_robot=... load_bytes_per_robot=...
+//          cpu_ns_per_robot_step=... state_hash=...
+// (threads as resolved: 0 and 1 both mean the calling thread only; the state
+// hash is that of the first repetition, and a warning is printed if the
+// repetitions disagree.)
+// Exit status: 0 success, 2 bad arguments or experiment file, 1 failure while running.
+#include <malloc.h>
+#include <sys/resource.h>
+#include <time.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "core/simulation.h"
+#include "core/state_hash.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: colony_bench FILE.xml... [--threads N] [--repeat K] [--ticks T] [--set PATH=VALUE]...\n"
+    "  --threads N   threads (default: the file's <system threads>; 0 and 1 both mean the calling "
+    "thread only)\n"
+    "  --repeat K    loads and runs of each scene (default 3); medians are reported\n"
+    "  --ticks T     ticks per run (default: the file's length)\n"
+    "  --set P=V     overrides an attribute, as in colony run\n";
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+long long ParseWhole(const std::string& option, const std::string& text, long long min,
+                     long long max) {
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno == ERANGE || v < min || v > max) {
+    throw UsageError(option + ": '" + text + "' is not accepted; expected a whole number in [" +
+                     std::to_string(min) + ", " + std::to_string(max) + "]");
+  }
+  return v;
+}
+
+// A "Vm...:  1234 kB" field of /proc/self/status, in bytes (-1 if absent).
+long long ProcStatusBytes(const char* field) {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  const size_t n = std::strlen(field);
+  while (std::getline(f, line)) {
+    if (line.compare(0, n, field) == 0 && line.size() > n && line[n] == ':') {
+      return std::atoll(line.c_str() + n + 1) * 1024;
+    }
+  }
+  return -1;
+}
+
+long long PeakBytes() {
+  const long long hwm = ProcStatusBytes("VmHWM");
+  if (hwm >= 0) return hwm;
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<long long>(u.ru_maxrss) * 1024;
+}
+
+long long CurrentBytes() { return ProcStatusBytes("VmRSS"); }
+
+// Resets VmHWM to the current resident set; false if not allowed.
+bool ResetPeak() {
+  std::FILE* f = std::fopen("/proc/self/clear_refs", "w");
+  if (!f) return false;
+  const bool ok = std::fputs("5", f) >= 0;
+  return std::fclose(f) == 0 && ok;
+}
+
+// CPU time of the whole process (every thread), in seconds.
+double CpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n == 0 ? 0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct Options {
+  std::vector<std::string> files;
+  std::vector<std::string> overrides;
+  std::optional<int> threads;
+  int repeat = 3;
+  long long ticks = 0;  // 0: the file's length
+};
+
+Options ParseArgs(const std::vector<std::string>& args) {
+  Options o;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&](const char* name) -> std::string {
+      if (i + 1 >= args.size()) throw UsageError(std::string(name) + " needs a value");
+      return args[++i];
+    };
+    if (a == "--threads") {
+      o.threads = static_cast<int>(ParseWhole("--threads", value("--threads"), 0, 256));
+    } else if (a == "--repeat") {
+      o.repeat = static_cast<int>(ParseWhole("--repeat", value("--repeat"), 1, 1000));
+    } else if (a == "--ticks") {
+      o.ticks = ParseWhole("--ticks", value("--ticks"), 1, 1'000'000'000);
+    } else if (a == "--set") {
+      o.overrides.push_back(value("--set"));
+    } else if (!a.empty() && a[0] == '-') {
+      throw UsageError("unknown option '" + a + "'");
+    } else {
+      o.files.push_back(a);
+    }
+  }
+  if (o.files.empty()) throw UsageError("no experiment file given");
+  return o;
+}
+
+struct Repetition {
+  double load_s = 0, step_s = 0, steps_per_s = 0;
+  double cpu_s = 0;  // process CPU time over the stepping loop (all threads)
+  double bytes_per_robot = 0, load_bytes_per_robot = 0;
+  size_t robots = 0;
+  int threads = 0;
+  uint64_t ticks = 0;
+  uint64_t hash = 0;
+  bool peak_reset = true;
+};
+
+// Loads and runs `file` once.
+Repetition RunOnce(const Options& o, const std::string& file, bool first) {
+  using Clock = std::chrono::steady_clock;
+  Repetition r;
+  malloc_trim(0);
+  r.peak_reset = ResetPeak() || first;
+  const long long rss0 = CurrentBytes();
+  const long long peak0 = PeakBytes();
+
+  colony::ExperimentOptions eo;
+  eo.file = file;
+  eo.overrides = o.overrides;
+  eo.threads = o.threads;
+  const auto t0 = Clock::now();
+  auto sim = colony::Simulation::Load(eo);
+  r.load_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  const long long rss_loaded = CurrentBytes();
+
+  const uint64_t ticks = o.ticks > 0 ? static_cast<uint64_t>(o.ticks) : sim->length_ticks();
+  if (ticks == 0) {
+    throw UsageError(file + ": the experiment has no length (unlimited); give --ticks T");
+  }
+  double robot_ticks = 0;
+  const double cpu0 = CpuSeconds();
+  for (uint64_t t = 0; t < ticks; ++t) {
+    const auto s0 = Clock::now();
+    sim->Step();
+    r.step_s += std::chrono::duration<double>(Clock::now() - s0).count();
+    robot_ticks += static_cast<double>(sim->robot_count());
+    // Loop functions may end the experiment early; --ticks runs past the length.
+    if (o.ticks == 0 && sim->Done()) break;
+  }
+  r.cpu_s = CpuSeconds() - cpu0;
+  r.ticks = sim->tick();
+  r.robots = sim->robot_count();
+  r.threads = sim->threads();
+  r.steps_per_s = r.step_s > 0 ? robot_ticks / r.step_s : 0;
+  r.hash = sim->StateHash();
+  const long long peak = PeakBytes();
+  const double robots = static_cast<double>(std::max<size_t>(r.robots, 1));
+  r.bytes_per_robot = static_cast<double>(peak - peak0) / robots;
+  r.load_bytes_per_robot = static_cast<double>(rss_loaded - rss0) / robots;
+  return r;
+}
+
+int Bench(const Options& o) {
+  for (const auto& file : o.files) {
+    const std::string scene = std::filesystem::path(file).stem().string();
+    std::vector<Repetition> reps;
+    for (int k = 0; k < o.repeat; ++k) {
+      Repetition r = RunOnce(o, file, reps.empty() && &file == &o.files.front());
+      reps.push_back(r);
+      std::printf(
+          "%s rep %d: %zu robots, %llu ticks, %.0f robot-steps/s (step %.3f s, %.2f cores busy), "
+          "load %.3f s, "
+          "peak %.0f B/robot, load growth %.0f B/robot%s, hash %s\n",
+          scene.c_str(), k + 1, r.robots, static_cast<unsigned long long>(r.ticks), r.steps_per_s,
+          r.step_s, r.step_s > 0 ? r.cpu_s / r.step_s : 0.0, r.load_s, r.bytes_per_robot,
+          r.load_bytes_per_robot, r.peak_reset ? "" : " (hwm not reset)",
+          colony::StateHasher::Hex(r.hash).c_str());
+      std::fflush(stdout);
+    }
+    std::vector<double> sps, load, bpr, lbpr, cpu_ns;
+    bool same_hash = true;
+    for (const auto& r : reps) {
+      sps.push_back(r.steps_per_s);
+      cpu_ns.push_back(r.steps_per_s > 0 ? 1e9 * r.cpu_s / (r.step_s * r.steps_per_s) : 0.0);
+      load.push_back(r.load_s);
+      if (r.peak_reset) bpr.push_back(r.bytes_per_robot);
+      lbpr.push_back(r.load_bytes_per_robot);
+      same_hash = same_hash && r.hash == reps.front().hash;
+    }
+    const Repetition& first = reps.front();
+    std::printf(
+        "%s median of %zu: %.0f robot-steps/s, load %.3f s, peak %.0f B/robot, load growth %.0f "
+        "B/robot%s\n",
+        scene.c_str(), reps.size(), Median(sps), Median(load), Median(bpr), Median(lbpr),
+        same_hash ? "" : " (WARNING: state hashes differ between repetitions)");
+    std::printf(
+        "RESULT scene=%s robots=%zu threads=%d ticks=%llu steps_per_s_median=%.0f "
+        "load_s_median=%.3f "
+        "bytes_per_robot=%.0f load_bytes_per_robot=%.0f cpu_ns_per_robot_step=%.0f state_hash=%s\n",
+        scene.c_str(), first.robots, first.threads, static_cast<unsigned long long>(first.ticks),
+        Median(sps), Median(load), Median(bpr), Median(lbpr), Median(cpu_ns),
+        colony::StateHasher::Hex(first.hash).c_str());
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (!args.empty() && (args[0] == "--help" || args[0] == "-h" || args[0] == "help")) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  try {
+    colony::SetLogLevel(colony::LogLevel::kError);
+    return Bench(ParseArgs(args));
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "colony_bench: %s\n%s", e.what(), kUsage);
+    return 2;
+  } catch (const colony::ConfigError& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "colony_bench: %s\n", e.what());
+    return 1;
+  }
+}
