@@ -6,6 +6,7 @@
 // robot whose obstacles are all behind it (|angle| > 90 degrees) drives on,
 // away from them, instead of spinning in front of them.
 #include <cmath>
+#include <vector>
 
 #include "actuators/differential_steering/differential_steering.h"
 #include "core/registry.h"
@@ -21,14 +22,19 @@ class Diffusion : public colony::Controller {
     velocity_ = params.GetDouble("velocity", 0.05, 0, 10);
     proximity_ = &GetSensor<colony::ProximitySensor>("proximity");
     wheels_ = &GetActuator<colony::DifferentialSteering>("differential_steering");
+    // The sensors' directions never change: their unit vectors are computed once.
+    for (const auto& r : proximity_->readings()) {
+      cos_.push_back(std::cos(r.angle));
+      sin_.push_back(std::sin(r.angle));
+    }
   }
 
   void ControlStep() override {
     double x = 0, y = 0;
     const auto& readings = proximity_->readings();
-    for (const auto& r : readings) {
-      x += r.value * std::cos(r.angle);
-      y += r.value * std::sin(r.angle);
+    for (size_t i = 0; i < readings.size(); ++i) {
+      x += readings[i].value * cos_[i];
+      y += readings[i].value * sin_[i];
     }
     if (!readings.empty()) {
       x /= readings.size();
@@ -48,6 +54,7 @@ class Diffusion : public colony::Controller {
 
  private:
   double alpha_ = 0, delta_ = 0, velocity_ = 0;
+  std::vector<float> cos_, sin_;
   const colony::ProximitySensor* proximity_ = nullptr;
   colony::DifferentialSteering* wheels_ = nullptr;
 };
