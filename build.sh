@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-PACKAGES=(g++ make cmake pkg-config libeigen3-dev libtinyxml2-dev libpng-dev libgtest-dev)
+PACKAGES=(g++ make cmake pkg-config python3 libeigen3-dev libtinyxml2-dev libpng-dev libgtest-dev)
 BUILD_DIR=${COLONY_BUILD_DIR:-build}
 
 install_missing() {
