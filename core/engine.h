@@ -1,12 +1,19 @@
 // Physics engines (plugin kind "engine"). An engine steps the poses of the
-// entities it owns. Each entity type it can simulate has a registered model
+// entities it owns. Several engines may share an experiment, each owning a
+// region (<boundaries>); a movable entity belongs to the one engine whose
+// region holds it and migrates when it crosses into another's; fixed
+// entities are present in every engine whose region they touch. Engines then
+// step in parallel, so an engine reads only its own entities and fixed ones,
+// never another engine's movables. Each entity type it can simulate has a registered model
 // for the (engine, entity type) pair (plugin kind "physics_model", label
 // "engine:entity"); a missing pair is a load-time error naming both.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "core/config.h"
+#include "core/region.h"
 #include "core/registry.h"
 #include "core/space.h"
 
@@ -28,7 +35,8 @@ class PhysicsEngine {
   // checked against the registered list).
   virtual void Configure(const ConfigNode& node) { (void)node; }
   // Takes the entity in slot `entity` under this engine, simulated by `model`
-  // (the model registered for this engine and the entity's type).
+  // (the model registered for this engine and the entity's type), starting
+  // from its pose and velocity in the space (it may be migrating in).
   virtual void AddEntity(EntityHandle entity, const PhysicsModel& model) = 0;
   virtual void RemoveEntity(EntityHandle entity) = 0;
   // Advances the owned entities by dt seconds.
@@ -42,6 +50,16 @@ class PhysicsEngine {
   }
   const std::string& id() const { return id_; }
   const std::string& label() const { return label_; }
+  // The region it simulates; none: the whole arena.
+  const std::optional<Region>& region() const { return region_; }
+  void SetRegion(Region region) { region_ = std::move(region); }
+  bool Holds(const Vec3& p) const { return !region_ || region_->Contains(p); }
+  // Whether entity slot `s` is one of this engine's (set by the host).
+  bool Owns(uint32_t s) const { return s < owned_.size() && owned_[s]; }
+  void SetOwned(uint32_t s, bool owned) {
+    if (owned_.size() <= s) owned_.resize(s + 1, 0);
+    owned_[s] = owned;
+  }
 
  protected:
   Simulation& sim() const { return *sim_; }
@@ -49,6 +67,8 @@ class PhysicsEngine {
  private:
   Simulation* sim_ = nullptr;
   std::string id_, label_;
+  std::optional<Region> region_;
+  std::vector<uint8_t> owned_;  // per space slot
 };
 
 }  // namespace colony

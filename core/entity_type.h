@@ -36,8 +36,7 @@ struct DeviceMounts {
 
 // What one entity is, as read from the experiment file.
 struct EntityDesc {
-  Space::EntityInit init;  // id, pose, geometry, flags, colour, LEDs, drive, light
-  double mass = 0;         // kg (for dynamics engines)
+  Space::EntityInit init;  // id, pose, geometry, flags, colour, mass, LEDs, drive, light
   std::string controller;  // robots: the id of the controller configuration
 };
 

@@ -320,10 +320,14 @@ class ExperimentLoader {
   bool LoadLibraryAttribute(const ConfigNode& node);
   bool ReadEntityDesc(const ConfigNode& node, const EntityType& type, EntityDesc& desc, bool needs_body);
   std::string CheckPlacement(const EntityDesc& desc);
+  std::vector<int> EnginesFor(const EntityDesc& desc, const std::vector<const PhysicsModel*>& models,
+                              const ConfigNode& node);
+  void ReadBoundaries(const ConfigNode& engine_node, PhysicsEngine& engine);
 
   Simulation& sim_;
   const ExperimentOptions& options_;
   std::map<std::string, int> entity_lines_;
+  std::vector<int> ids_line_;  // line of each engine's element
   std::unique_ptr<PlacementIndex> placement_;
   int generated_line_ = 0;  // the line of <walls> while its boxes are built
 };
@@ -509,11 +513,75 @@ void ExperimentLoader::ReadEngines(const ConfigNode& root) {
     const std::string id = node.RequireString("id");
     if (ids.count(id)) node.Error("id", id, "engine id '" + id + "' already used at line " + std::to_string(ids[id]));
     ids[id] = node.line();
+    node.CheckChildren({"boundaries"});
+    node.CheckAtMostOne("boundaries");
     auto engine = entry->create();
     engine->Bind(&sim_, id, entry->info.label);
     engine->Configure(node);
+    ReadBoundaries(node, *engine);
+    // Two engines of one kind must not simulate the same place.
+    for (size_t k = 0; k < sim_.engines_.size(); ++k) {
+      const PhysicsEngine& other = *sim_.engines_[k];
+      if (other.label() != engine->label()) continue;
+      const bool overlap = !engine->region() || !other.region() || engine->region()->Overlaps(*other.region());
+      if (overlap) {
+        node.ElementError("the region of " + engine->label() + " '" + id + "' overlaps that of " + other.label() +
+                          " '" + other.id() + "' (line " + std::to_string(ids_line_[k]) + ")" +
+                          (!engine->region() || !other.region() ? "; an engine without <boundaries> covers the whole arena" : ""));
+      }
+    }
+    ids_line_.push_back(node.line());
     sim_.engines_.push_back(std::move(engine));
   }
+}
+
+void ExperimentLoader::ReadBoundaries(const ConfigNode& engine_node, PhysicsEngine& engine) {
+  const ConfigNode b = engine_node.Child("boundaries");
+  if (!b.valid()) return;
+  b.CheckAttributes({});
+  b.CheckChildren({"top", "bottom", "sides"});
+  for (const char* part : {"top", "bottom", "sides"}) b.CheckAtMostOne(part);
+  Region region;
+  if (const ConfigNode top = b.Child("top"); top.valid()) {
+    top.CheckAttributes({"height"});
+    region.top = top.RequireDouble("height");
+  }
+  if (const ConfigNode bottom = b.Child("bottom"); bottom.valid()) {
+    bottom.CheckAttributes({"height"});
+    region.bottom = bottom.RequireDouble("height");
+  }
+  if (region.bottom >= region.top) {
+    b.ElementError("the bottom height must be below the top height");
+  }
+  const ConfigNode sides = b.Child("sides");
+  if (!sides.valid()) {
+    b.ElementError("missing <sides> with at least three <vertex point=\"x,y\"/>, counter-clockwise");
+    return;
+  }
+  sides.CheckAttributes({"size"});
+  sides.CheckChildren({"vertex"});
+  for (const ConfigNode& v : sides.Children("vertex")) {
+    v.CheckAttributes({"point"});
+    const std::string raw = v.RequireString("point");
+    const auto parts = SplitList(raw);
+    double x = 0, y = 0;
+    if (parts.size() != 2 || !ParseFiniteDouble(parts[0], x) || !ParseFiniteDouble(parts[1], y)) {
+      if (!raw.empty()) v.Error("point", raw, "'" + raw + "' is not two finite numbers; accepted: \"x,y\"");
+      continue;
+    }
+    region.vertices.emplace_back(x, y);
+  }
+  const int64_t size = sides.GetInt("size", static_cast<int64_t>(region.vertices.size()), 3, 100000);
+  if (size != static_cast<int64_t>(region.vertices.size())) {
+    sides.Error("size", sides.GetString("size", ""), "says " + std::to_string(size) + " vertices but " +
+                                                        std::to_string(region.vertices.size()) + " are given");
+  }
+  const std::string problem = region.Problem();
+  if (!problem.empty()) {
+    sides.ElementError(problem);
+    return;
+  }
+  engine.SetRegion(std::move(region));
 }
 
 void ExperimentLoader::ReadOptionalSections(const ConfigNode& root) {
@@ -524,8 +592,12 @@ void ExperimentLoader::ReadOptionalSections(const ConfigNode& root) {
     for (const ConfigNode& child : node.Children()) {
       if (std::string(section) == "media") {
         FindPlugin<Medium>(child, "medium", child.name(), "default");
-      } else {
-        FindPlugin<Renderer>(child, "renderer", child.name(), "default");
+      } else if (const auto* entry = FindPlugin<Renderer>(child, "renderer", child.name(), "default")) {
+        child.CheckAttributes(entry->info.AttributeNames());
+        auto renderer = entry->create();
+        renderer->Bind(&sim_);
+        renderer->Configure(child);
+        sim_.renderers_.push_back(std::move(renderer));
       }
     }
   }
@@ -663,13 +735,49 @@ EntityHandle ExperimentLoader::BuildEntity(const ConfigNode& node, const Pose* p
       return {};
     }
   }
+  const std::vector<int> engines = EnginesFor(desc, models, node);
+  if (desc.init.geometry.shape != ShapeKind::kNone && engines.empty()) return {};
   // Entities made by the loader (walls) have no line of their own.
   const int line = node.line() > 0 ? node.line() : generated_line_;
   entity_lines_[id] = line;
   if (check_placement && placement_ && (desc.init.flags & kSolid)) {
     placement_->Insert(desc.init.pose, desc.init.geometry, id, line, desc.init.flags & kMovable);
   }
-  return sim_.Instantiate(desc, models.data(), node);
+  return sim_.Instantiate(desc, models.data(), engines, node);
+}
+
+std::vector<int> ExperimentLoader::EnginesFor(const EntityDesc& desc, const std::vector<const PhysicsModel*>& models,
+                                              const ConfigNode& node) {
+  std::vector<int> chosen;
+  const auto& init = desc.init;
+  if (init.geometry.shape == ShapeKind::kNone) return chosen;
+  const Vec3& p = init.pose.position;
+  const Vec2 half = FootprintHalfExtents(init.geometry, init.pose.orientation);
+  const bool movable = init.flags & kMovable;
+  // A movable entity goes to the first engine (in file order) whose region
+  // holds it; a fixed one to every engine whose region it touches.
+  for (size_t e = 0; e < sim_.engines_.size(); ++e) {
+    if (!models[e]) continue;
+    const PhysicsEngine& engine = *sim_.engines_[e];
+    if (movable && engine.Holds(p)) {
+      chosen.push_back(static_cast<int>(e));
+      break;
+    }
+    if (!movable && (!engine.region() || engine.region()->Touches(p.head<2>(), half, p.z(), p.z() + init.geometry.height()))) {
+      chosen.push_back(static_cast<int>(e));
+    }
+  }
+  if (chosen.empty()) {
+    std::vector<std::string> names;
+    for (size_t e = 0; e < sim_.engines_.size(); ++e)
+      if (models[e]) names.push_back(sim_.engines_[e]->label() + " '" + sim_.engines_[e]->id() + "'");
+    std::ostringstream s;
+    s << "entity '" << init.id << "' at (" << p.x() << ", " << p.y() << ", " << p.z() << ") is "
+      << (movable ? "inside" : "touching") << " no engine's <boundaries> (engines that can simulate it: "
+      << Join(names) << ")";
+    node.ElementError(s.str());
+  }
+  return chosen;
 }
 
 void ExperimentLoader::ReadDistribute(const ConfigNode& node) {

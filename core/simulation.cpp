@@ -33,7 +33,7 @@ Simulation::~Simulation() {
 }
 
 EntityHandle Simulation::Instantiate(const EntityDesc& desc, const PhysicsModel* const* models,
-                                     const ConfigNode& where) {
+                                     const std::vector<int>& engines, const ConfigNode& where) {
   const EntityHandle h = space_.Add(desc.init);
   if (engine_of_.size() < space_.slots()) {
     engine_of_.resize(space_.slots(), -1);
@@ -41,15 +41,10 @@ EntityHandle Simulation::Instantiate(const EntityDesc& desc, const PhysicsModel*
   }
   engine_of_[h.index] = -1;
   robot_of_[h.index] = -1;
-  if (desc.init.geometry.shape != ShapeKind::kNone) {
-    // A movable entity lives in exactly one engine; a fixed one in every
-    // engine that can simulate it.
-    for (size_t e = 0; e < engines_.size(); ++e) {
-      if (!models[e]) continue;
-      engines_[e]->AddEntity(h, *models[e]);
-      engine_of_[h.index] = static_cast<int16_t>(e);
-      if (desc.init.flags & kMovable) break;
-    }
+  for (int e : engines) {
+    engines_[e]->SetOwned(h.index, true);
+    engines_[e]->AddEntity(h, *models[e]);
+    if (engine_of_[h.index] < 0) engine_of_[h.index] = static_cast<int16_t>(e);
   }
   if (!desc.controller.empty()) {
     Robot& robot = robots_.emplace_back();
@@ -148,12 +143,10 @@ void Simulation::RemoveEntity(EntityHandle entity) {
     robot_of_[slot] = -1;
     --robot_count_;
   }
-  if (space_.geometry(slot).shape != ShapeKind::kNone) {
-    const auto& models = models_[space_.type(slot)];
-    for (size_t e = 0; e < engines_.size(); ++e) {
-      const bool owner = space_.movable(slot) ? engine_of_[slot] == static_cast<int16_t>(e) : models[e] != nullptr;
-      if (owner) engines_[e]->RemoveEntity(entity);
-    }
+  for (auto& engine : engines_) {
+    if (!engine->Owns(slot)) continue;
+    engine->RemoveEntity(entity);
+    engine->SetOwned(slot, false);
   }
   engine_of_[slot] = -1;
   space_.Remove(entity);
@@ -172,6 +165,28 @@ const DeviceMounts& Simulation::MountsOf(EntityHandle entity) const {
 PhysicsEngine* Simulation::EngineOf(EntityHandle entity) const {
   if (!space_.IsAlive(entity) || engine_of_[entity.index] < 0) return nullptr;
   return engines_[engine_of_[entity.index]].get();
+}
+
+void Simulation::Migrate() {
+  // In slot order, so the engines receive migrants in the same order
+  // whatever the thread count.
+  for (uint32_t s = 0; s < space_.slots(); ++s) {
+    if (!space_.alive(s) || !space_.movable(s) || engine_of_[s] < 0) continue;
+    const Vec3& p = space_.pose(s).position;
+    PhysicsEngine& from = *engines_[engine_of_[s]];
+    if (from.Holds(p)) continue;
+    const auto& models = models_[space_.type(s)];
+    for (size_t e = 0; e < engines_.size(); ++e) {
+      if (!models[e] || !engines_[e]->Holds(p)) continue;
+      const EntityHandle h = space_.HandleOf(s);
+      from.RemoveEntity(h);
+      from.SetOwned(s, false);
+      engines_[e]->SetOwned(s, true);
+      engines_[e]->AddEntity(h, *models[e]);
+      engine_of_[s] = static_cast<int16_t>(e);
+      break;
+    }
+  }
 }
 
 void Simulation::Act() {
@@ -215,8 +230,16 @@ void Simulation::Step() {
   if (space_.index_dirty()) space_.UpdateIndex();
   // 1. act
   Act();
-  // 2. physics, then the spatial index for sensors and the next tick
-  for (auto& engine : engines_) engine->Step(dt_);
+  // 2. physics (engines in parallel with each other), migration between
+  // engines, then the spatial index for sensors and the next tick
+  if (engines_.size() == 1) {
+    engines_.front()->Step(dt_);
+  } else {
+    pool_->ParallelFor(engines_.size(), 1, [&](size_t b, size_t e) {
+      for (size_t i = b; i < e; ++i) engines_[i]->Step(dt_);
+    });
+    Migrate();
+  }
   space_.UpdateIndex();
   // 3. media: none in this build yet
   // 4. loop functions pre-step
@@ -230,6 +253,30 @@ void Simulation::Step() {
   if (space_.index_dirty()) space_.UpdateIndex();
   done_ = length_ticks_ > 0 && tick_ >= length_ticks_;
   for (auto& lf : loop_functions_) done_ = lf->IsExperimentFinished() || done_;
+}
+
+Renderer& Simulation::AddRenderer(const std::string& xml) {
+  tinyxml2::XMLDocument fragment;
+  if (fragment.Parse(xml.c_str()) != tinyxml2::XML_SUCCESS || !fragment.RootElement()) {
+    throw ConfigError("AddRenderer: not well-formed XML: " + std::string(fragment.ErrorStr()));
+  }
+  ConfigContext context{"<AddRenderer>", {}};
+  const ConfigNode node(fragment.RootElement(), &context);
+  const auto* entry = Registry<Renderer>::Get().Find(node.name());
+  if (!entry) {
+    std::string available;
+    for (const auto& label : Registry<Renderer>::Get().Labels()) available += (available.empty() ? "" : ", ") + label;
+    throw ConfigError("no renderer '" + node.name() + "' in this build; " +
+                      (available.empty() ? "none is (was it built with -DCOLONY_WITH_OSMESA=OFF?)"
+                                         : "available: " + available));
+  }
+  node.CheckAttributes(entry->info.AttributeNames());
+  auto renderer = entry->create();
+  renderer->Bind(this);
+  renderer->Configure(node);
+  context.diagnostics.ThrowIfAny();
+  renderers_.push_back(std::move(renderer));
+  return *renderers_.back();
 }
 
 uint64_t Simulation::StateHash() const {

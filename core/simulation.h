@@ -18,6 +18,7 @@
 #include "core/engine.h"
 #include "core/entity_type.h"
 #include "core/loop_functions.h"
+#include "core/renderer.h"
 #include "core/space.h"
 #include "core/thread_pool.h"
 
@@ -104,6 +105,13 @@ class Simulation {
   PhysicsEngine* EngineOf(EntityHandle entity) const;
   const std::vector<std::unique_ptr<PhysicsEngine>>& engines() const { return engines_; }
 
+  // Renderers from <visualization>, in file order; the host calls them
+  // between ticks (see core/renderer.h).
+  const std::vector<std::unique_ptr<Renderer>>& renderers() const { return renderers_; }
+  // Adds a renderer described by an XML element, as in <visualization>
+  // (e.g. "<osmesa/>", for `colony run --frames`). Throws ConfigError.
+  Renderer& AddRenderer(const std::string& xml);
+
  private:
   friend class ExperimentLoader;
   Simulation();
@@ -131,8 +139,12 @@ class Simulation {
   };
 
   // Adds a described entity to the space, an engine and (robots) a controller.
+  // `engines`: the engines it goes into (one if movable).
   EntityHandle Instantiate(const EntityDesc& desc, const PhysicsModel* const* models,
-                           const ConfigNode& where);
+                           const std::vector<int>& engines, const ConfigNode& where);
+  // Hands movable entities that left their engine's region to the engine
+  // whose region now holds them.
+  void Migrate();
   void AttachController(Robot& robot, const ConfigNode& where);
   void Act();
   void SenseAndControl();
@@ -162,6 +174,7 @@ class Simulation {
   std::vector<int32_t> robot_of_;  // per space slot, -1 if none
   size_t robot_count_ = 0;
   std::vector<std::unique_ptr<LoopFunctions>> loop_functions_;
+  std::vector<std::unique_ptr<Renderer>> renderers_;
   Metrics metrics_;
   RandomStream rng_;
   std::vector<std::pair<const EntityType*, uint16_t>> entity_types_;  // by space type id

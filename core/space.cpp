@@ -39,6 +39,7 @@ EntityHandle Space::Add(EntityInit init) {
     twists_.emplace_back();
     geometries_.emplace_back();
     colors_.emplace_back();
+    masses_.push_back(0);
     contact_.push_back(0);
     led_offset_.push_back(0);
     led_count_.push_back(0);
@@ -52,6 +53,7 @@ EntityHandle Space::Add(EntityInit init) {
   twists_[slot] = Twist{};
   geometries_[slot] = init.geometry;
   colors_[slot] = init.color;
+  masses_[slot] = init.mass;
   contact_[slot] = 0;
   led_offset_[slot] = static_cast<uint32_t>(leds_.size());
   led_count_[slot] = static_cast<uint16_t>(init.led_count);

@@ -92,6 +92,7 @@ class Space {
     bool has_drive = false;
     DriveState drive;
     double light_intensity = 0;  // > 0 makes it a light
+    double mass = 0;             // kg, for dynamics engines (0: immovable)
   };
 
   // Entity types are registered once; their id is a small integer.
@@ -123,6 +124,7 @@ class Space {
   const Twist& twist(uint32_t i) const { return twists_[i]; }
   const Geometry& geometry(uint32_t i) const { return geometries_[i]; }
   Color color(uint32_t i) const { return colors_[i]; }
+  double mass(uint32_t i) const { return masses_[i]; }
   // Set by engines when the entity touched something during the last tick.
   bool in_contact(uint32_t i) const { return contact_[i]; }
   void set_in_contact(uint32_t i, bool c) { contact_[i] = c; }
@@ -199,6 +201,7 @@ class Space {
   std::vector<Twist> twists_;
   std::vector<Geometry> geometries_;
   std::vector<Color> colors_;
+  std::vector<double> masses_;
   std::vector<uint8_t> contact_;
   std::vector<uint32_t> led_offset_;
   std::vector<uint16_t> led_count_;

@@ -18,6 +18,12 @@ ThreadPool::~ThreadPool() {
 }
 
 // Takes chunks until none is left; the mutex is held on entry and exit.
+namespace {
+// Set while a thread runs a chunk: a ParallelFor called from inside one
+// (an engine stepping in parallel with other engines) runs inline.
+thread_local bool t_in_job = false;
+}  // namespace
+
 void ThreadPool::RunChunks() {
   std::unique_lock lock(mutex_, std::adopt_lock);
   while (next_ < n_) {
@@ -27,7 +33,9 @@ void ThreadPool::RunChunks() {
     ++pending_;
     const auto* job = job_;
     lock.unlock();
+    t_in_job = true;
     (*job)(begin, end);
+    t_in_job = false;
     lock.lock();
     if (--pending_ == 0 && next_ >= n_) done_.notify_all();
   }
@@ -56,7 +64,7 @@ void ThreadPool::ParallelFor(size_t n, size_t min_chunk,
                              const std::function<void(size_t, size_t)>& fn) {
   if (n == 0) return;
   min_chunk = std::max<size_t>(min_chunk, 1);
-  if (workers_.empty() || n <= min_chunk) {
+  if (workers_.empty() || n <= min_chunk || t_in_job) {
     fn(0, n);
     return;
   }

@@ -23,6 +23,7 @@ class ThreadPool {
 
   int threads() const { return threads_; }
   // Calls fn(begin, end) over chunks of [0, n) of at least `min_chunk` items.
+  // Called from inside a chunk, it runs everything inline.
   void ParallelFor(size_t n, size_t min_chunk, const std::function<void(size_t, size_t)>& fn);
 
  private:

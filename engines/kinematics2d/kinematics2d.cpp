@@ -291,6 +291,8 @@ class Kinematics2dEngine : public PhysicsEngine {
         if ((p - c).squaredNorm() < rr * rr) return true;
         close = close || (other.position - c).squaredNorm() < rr * rr;
       } else {
+        // Another engine's movables may be moving right now: not ours to see.
+        if (space.movable(o) && !Owns(o)) continue;
         const Pose& other = space.pose(o);
         const Geometry& og = space.geometry(o);
         if (other.position.z() >= z1 || z0 >= other.position.z() + og.height()) continue;

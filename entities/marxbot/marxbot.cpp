@@ -28,7 +28,7 @@ class MarxbotType : public EntityType {
     init.drive.wheel_base = kWheelBase;
     init.drive.wheel_radius = kWheelRadius;
     init.drive.max_speed = kMaxSpeed;
-    desc.mass = kMass;
+    desc.init.mass = kMass;
   }
   bool is_robot() const override { return true; }
   const DeviceMounts& mounts() const override { return mounts_; }

@@ -7,8 +7,8 @@ namespace {
 void ReadSolid(const ConfigNode& node, EntityDesc& desc, Color default_color) {
   const bool movable = node.GetBool("movable", false);
   desc.init.flags = movable ? (kSolid | kMovable) : kSolid;
-  desc.mass = node.GetDouble("mass", movable ? 1.0 : 0.0, Range::NonNegative());
-  if (movable && node.Has("mass") && desc.mass <= 0) {
+  desc.init.mass = node.GetDouble("mass", movable ? 1.0 : 0.0, Range::NonNegative());
+  if (movable && node.Has("mass") && desc.init.mass <= 0) {
     node.Error("mass", node.GetString("mass", ""), "a movable object needs a mass > 0 (kg)");
   }
   desc.init.color = node.GetColor("color", default_color);
