@@ -98,18 +98,34 @@ bool Region::Overlaps(const Region& other) const {
   if (top <= other.bottom || other.top <= bottom) return false;
   const auto& a = vertices;
   const auto& b = other.vertices;
-  for (size_t i = 0, j = a.size() - 1; i < a.size(); j = i++)
-    for (size_t k = 0, l = b.size() - 1; k < b.size(); l = k++)
-      if (ProperlyCross(a[j], a[i], b[l], b[k])) return true;
-  for (const Vec2& p : a)
-    if (StrictlyInside(b, p)) return true;
-  for (const Vec2& p : b)
-    if (StrictlyInside(a, p)) return true;
-  // Same outline (every vertex on the other's sides): compare centroids.
-  Vec2 ca = Vec2::Zero(), cb = Vec2::Zero();
-  for (const Vec2& p : a) ca += p / a.size();
-  for (const Vec2& p : b) cb += p / b.size();
-  return StrictlyInside(b, ca) || StrictlyInside(a, cb);
+  // If the interiors share area, the shared part has a corner at a vertex of
+  // either polygon or where two sides cross; just beside that corner lie
+  // points strictly inside both. Probe around every such candidate.
+  std::vector<Vec2> corners(a.begin(), a.end());
+  corners.insert(corners.end(), b.begin(), b.end());
+  for (size_t i = 0, j = a.size() - 1; i < a.size(); j = i++) {
+    for (size_t k = 0, l = b.size() - 1; k < b.size(); l = k++) {
+      const Vec2 r = a[i] - a[j], q = b[k] - b[l];
+      const double denom = r.x() * q.y() - r.y() * q.x();
+      if (denom == 0) continue;
+      const Vec2 d = b[l] - a[j];
+      const double t = (d.x() * q.y() - d.y() * q.x()) / denom;
+      const double u = (d.x() * r.y() - d.y() * r.x()) / denom;
+      if (t >= 0 && t <= 1 && u >= 0 && u <= 1) corners.push_back(a[j] + t * r);
+    }
+  }
+  double scale = 0;
+  for (const Vec2& p : corners) scale = std::max(scale, p.cwiseAbs().maxCoeff());
+  const double eps = 1e-7 * std::max(scale, 1.0);
+  constexpr int kDirections = 32;
+  for (const Vec2& p : corners) {
+    for (int k = 0; k < kDirections; ++k) {
+      const double angle = 2 * M_PI * (k + 0.5) / kDirections;
+      const Vec2 probe = p + eps * Vec2(std::cos(angle), std::sin(angle));
+      if (StrictlyInside(a, probe) && StrictlyInside(b, probe)) return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace colony

@@ -1,0 +1,88 @@
+// dynamics2d: robots push movable objects, cannot move fixed ones, and slip
+// when they push too hard.
+#include "actuators/differential_steering/differential_steering.h"
+#include "sensors/wheel_encoders/wheel_encoders.h"
+#include "tests/test_util.h"
+
+namespace colony {
+namespace {
+
+// Drives straight at `speed` m/s.
+class Pusher : public Controller {
+ public:
+  void Init(const Params& params) override {
+    speed_ = params.GetDouble("speed", 0.2);
+    wheels_ = &GetActuator<DifferentialSteering>("differential_steering");
+  }
+  void ControlStep() override { wheels_->SetLinearVelocity(speed_, speed_); }
+
+ private:
+  double speed_ = 0;
+  DifferentialSteering* wheels_ = nullptr;
+};
+COLONY_REGISTER_CONTROLLER(Pusher, "dyn2d_pusher", "test: drives straight");
+
+const char* kPusher =
+    "<dyn2d_pusher id=\"p\"><actuators><differential_steering/></actuators><params speed=\"0.2\"/></dyn2d_pusher>";
+const char* kEngine = "<dynamics2d id=\"d2d\"/>";
+
+std::string Scene(const std::string& object) {
+  return testing::Experiment(
+      "<marxbot id=\"r\"><body position=\"-0.5,0,0\"/><controller config=\"p\"/></marxbot>" + object, kPusher,
+      "4,4,1", "", kEngine);
+}
+
+Vec3 PositionOf(Simulation& sim, const std::string& id) { return sim.space().pose(sim.space().Find(id).index).position; }
+
+TEST(Dynamics2d, RobotPushesAMovableBox) {
+  auto sim = testing::LoadXml(
+      Scene("<box id=\"b\" size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"0.3\"><body position=\"0,0,0\"/></box>"));
+  for (int t = 0; t < 50; ++t) sim->Step();
+  const Vec3 box = PositionOf(*sim, "b");
+  const Vec3 robot = PositionOf(*sim, "r");
+  EXPECT_GT(box.x(), 0.3) << "the box should have been pushed along +x";
+  EXPECT_LT(std::abs(box.y()), 0.1);
+  EXPECT_LT(robot.x(), box.x()) << "the robot stays behind the box it pushes";
+}
+
+TEST(Dynamics2d, RobotCannotMoveAFixedWall) {
+  auto sim = testing::LoadXml(Scene("<box id=\"w\" size=\"0.1,1,0.3\"><body position=\"0,0,0\"/></box>"));
+  for (int t = 0; t < 80; ++t) sim->Step();
+  EXPECT_EQ(PositionOf(*sim, "w"), Vec3(0, 0, 0));
+  // The robot's front stops at the wall's face (x = -0.05), give or take Box2D's skin.
+  EXPECT_LT(PositionOf(*sim, "r").x() + 0.085, -0.05 + 0.02);
+  EXPECT_GT(PositionOf(*sim, "r").x(), -0.5 + 0.2) << "it did drive up to the wall";
+  EXPECT_TRUE(sim->space().in_contact(sim->space().Find("r").index));
+}
+
+TEST(Dynamics2d, TreelsSlipAgainstAnObjectTooHeavyToPush) {
+  // Floor friction on 50 kg (about 245 N) is far beyond the treels' 15 N.
+  auto sim = testing::LoadXml(
+      Scene("<box id=\"b\" size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"50\"><body position=\"0,0,0\"/></box>"));
+  for (int t = 0; t < 60; ++t) sim->Step();
+  EXPECT_NEAR(PositionOf(*sim, "b").x(), 0.0, 0.002);
+  const uint32_t r = sim->space().Find("r").index;
+  EXPECT_LT(sim->space().twist(r).linear.norm(), 0.02) << "commanded 0.2 m/s, it is stuck";
+  EXPECT_DOUBLE_EQ(sim->space().drive(r)->target_left, 0.2);
+}
+
+TEST(Dynamics2d, RobotDrivesAtItsCommandedSpeedOnAFreeFloor) {
+  auto sim = testing::LoadXml(Scene(""));
+  for (int t = 0; t < 20; ++t) sim->Step();
+  const uint32_t r = sim->space().Find("r").index;
+  EXPECT_NEAR(sim->space().twist(r).linear.x(), 0.2, 1e-3);
+  EXPECT_NEAR(sim->space().twist(r).linear.y(), 0.0, 1e-3);
+}
+
+TEST(Dynamics2d, BadParametersAreRejectedWithElementAndLine) {
+  for (const std::string& bad : {"substeps=\"0\"", "friction=\"-1\"", "robot_max_force=\"nan\"", "iterations=\"x\""}) {
+    const std::string message = testing::LoadError(testing::Experiment(
+        "", "", "4,4,1", "", "<dynamics2d id=\"d2d\" " + bad + "/>"));
+    const std::string attribute = bad.substr(0, bad.find('='));
+    EXPECT_NE(message.find("<string>:1: <dynamics2d id=\"d2d\"> attribute '" + attribute + "'"), std::string::npos)
+        << bad << ": " << message;
+  }
+}
+
+}  // namespace
+}  // namespace colony
