@@ -39,6 +39,9 @@ class PhysicsEngine {
   // from its pose and velocity in the space (it may be migrating in).
   virtual void AddEntity(EntityHandle entity, const PhysicsModel& model) = 0;
   virtual void RemoveEntity(EntityHandle entity) = 0;
+  // Whether it simulates grippers (GripperState in the space): holding
+  // what a robot grips.
+  virtual bool SimulatesGripping() const { return false; }
   // Advances the owned entities by dt seconds.
   virtual void Step(double dt) = 0;
 

@@ -45,6 +45,7 @@ EntityHandle Space::Add(EntityInit init) {
     led_count_.push_back(0);
     drive_slot_.push_back(-1);
     light_slot_.push_back(-1);
+    gripper_slot_.push_back(-1);
     ids_.emplace_back();
   }
   flags_[slot] = static_cast<uint8_t>(init.flags | kAlive);
@@ -63,6 +64,11 @@ EntityHandle Space::Add(EntityInit init) {
   if (init.has_drive) {
     drive_slot_[slot] = static_cast<int32_t>(drives_.size());
     drives_.push_back(init.drive);
+  }
+  gripper_slot_[slot] = -1;
+  if (init.has_gripper) {
+    gripper_slot_[slot] = static_cast<int32_t>(grippers_.size());
+    grippers_.emplace_back();
   }
   light_slot_[slot] = -1;
   if (init.light_intensity > 0) {
@@ -94,6 +100,7 @@ void Space::Remove(EntityHandle h) {
   led_count_[slot] = 0;
   drive_slot_[slot] = -1;
   light_slot_[slot] = -1;
+  gripper_slot_[slot] = -1;
   ids_[slot].clear();
   free_slots_.push_back(slot);
   --alive_count_;
@@ -225,6 +232,10 @@ void Space::Hash(StateHasher& h) const {
     if (led_count_[i]) h.Add(leds_.data() + led_offset_[i], sizeof(Color) * led_count_[i]);
     if (const DriveState* d = drive(i)) {
       const double v[4] = {d->target_left, d->target_right, d->left, d->right};
+      h.Add(v, sizeof v);
+    }
+    if (const GripperState* g = gripper(i)) {
+      const double v[3] = {g->turret, g->want_grip ? 1.0 : 0.0, static_cast<double>(g->held)};
       h.Add(v, sizeof v);
     }
   }

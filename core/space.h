@@ -73,6 +73,17 @@ struct DriveState {
   double travelled_left = 0, travelled_right = 0;  // distance each wheel moved last tick (m)
 };
 
+// The marXbot's docking turret and gripper: written by the gripper actuator,
+// acted on by engines that simulate gripping (they set `held`).
+struct GripperState {
+  double turret = 0;         // turret angle from the robot's front, counter-clockwise (rad)
+  double turret_speed = 1;   // most turret rotation per second (rad/s)
+  double reach = 0.02;       // how far beyond the body the jaws close on something (m)
+  bool want_grip = false;    // the controller asks to hold what is in front of the jaws
+  uint32_t held = 0xFFFFFFFFu;  // slot of the held entity, or none
+  bool holding() const { return held != 0xFFFFFFFFu; }
+};
+
 // A point light seen by light sensors.
 struct LightSource {
   double intensity = 0;
@@ -93,6 +104,7 @@ class Space {
     DriveState drive;
     double light_intensity = 0;  // > 0 makes it a light
     double mass = 0;             // kg, for dynamics engines (0: immovable)
+    bool has_gripper = false;
   };
 
   // Entity types are registered once; their id is a small integer.
@@ -140,6 +152,11 @@ class Space {
   DriveState* drive(uint32_t i) { return drive_slot_[i] < 0 ? nullptr : &drives_[drive_slot_[i]]; }
   const DriveState* drive(uint32_t i) const {
     return drive_slot_[i] < 0 ? nullptr : &drives_[drive_slot_[i]];
+  }
+  // Turret and gripper of a robot, or nullptr.
+  GripperState* gripper(uint32_t i) { return gripper_slot_[i] < 0 ? nullptr : &grippers_[gripper_slot_[i]]; }
+  const GripperState* gripper(uint32_t i) const {
+    return gripper_slot_[i] < 0 ? nullptr : &grippers_[gripper_slot_[i]];
   }
   const LightSource* light(uint32_t i) const {
     return light_slot_[i] < 0 ? nullptr : &lights_[light_slot_[i]];
@@ -207,10 +224,12 @@ class Space {
   std::vector<uint16_t> led_count_;
   std::vector<int32_t> drive_slot_;
   std::vector<int32_t> light_slot_;
+  std::vector<int32_t> gripper_slot_;
   // Components, packed.
   std::vector<Color> leds_;
   std::vector<DriveState> drives_;
   std::vector<LightSource> lights_;
+  std::vector<GripperState> grippers_;
   // Cold data.
   std::vector<std::string> ids_;
   std::unordered_map<std::string, uint32_t> by_id_;

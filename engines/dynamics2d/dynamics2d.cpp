@@ -7,7 +7,10 @@
 // rate, no sideways motion) by a force and a torque that cannot exceed
 // robot_max_force and robot_max_torque: when it pushes too hard the wheels
 // slip and it falls behind its command. Movable objects are pushed; fixed
-// ones are static bodies nothing can move.
+// ones are static bodies nothing can move. A robot gripping welds the thing
+// in front of its jaws (a movable object, another robot) to its body until it
+// releases; a grip does not survive the robot or the held thing leaving this
+// engine (migrating to another engine's region, or being removed).
 #include <box2d/box2d.h>
 
 #include <algorithm>
@@ -120,9 +123,14 @@ class Dynamics2dEngine : public PhysicsEngine {
     }
   }
 
+  bool SimulatesGripping() const override { return true; }
+
   void RemoveEntity(EntityHandle entity) override {
     const uint32_t s = entity.index;
     if (s >= bodies_.size() || !bodies_[s]) return;
+    for (size_t k = grips_.size(); k-- > 0;) {
+      if (grips_[k].robot == s || grips_[k].target == s) Ungrip(sim().space(), k);
+    }
     world_->DestroyBody(bodies_[s]);  // its joints go with it
     bodies_[s] = nullptr;
     for (auto* list : {&robots_, &objects_}) {
@@ -134,6 +142,7 @@ class Dynamics2dEngine : public PhysicsEngine {
   void Step(double dt) override {
     Space& space = sim().space();
     const double h = dt / substeps_;
+    UpdateGrips(space);
     for (int k = 0; k < substeps_; ++k) {
       for (uint32_t s : robots_) Drive(space, s, h);
       world_->Step(static_cast<float>(h), velocity_iterations_, position_iterations_);
@@ -143,6 +152,66 @@ class Dynamics2dEngine : public PhysicsEngine {
   }
 
  private:
+  struct Grip {
+    uint32_t robot, target;
+    b2Joint* joint;
+  };
+
+  // Releases what robots no longer want to hold; grips what is in front of
+  // the jaws of robots that want to hold something.
+  void UpdateGrips(Space& space) {
+    for (size_t k = grips_.size(); k-- > 0;) {
+      if (!space.gripper(grips_[k].robot)->want_grip) Ungrip(space, k);
+    }
+    for (uint32_t s : robots_) {
+      GripperState* g = space.gripper(s);
+      if (!g || !g->want_grip || g->holding()) continue;
+      b2Body* body = bodies_[s];
+      const double angle = body->GetAngle() + g->turret;
+      const b2Vec2 dir(static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle)));
+      const float radius = static_cast<float>(space.geometry(s).radius);
+      // The jaws close on the nearest body within reach, the lowest slot first.
+      for (int step = 1; step <= 4 && !g->holding(); ++step) {
+        const b2Vec2 p = body->GetPosition() + (radius + static_cast<float>(g->reach * step / 4)) * dir;
+        const uint32_t target = BodyAt(p, body);
+        if (target == UINT32_MAX) continue;
+        b2WeldJointDef joint;
+        joint.Initialize(body, bodies_[target], p);
+        grips_.push_back({s, target, world_->CreateJoint(&joint)});
+        g->held = target;
+      }
+    }
+  }
+
+  // Slot of the lowest-slot movable body (not `self`) covering p, or UINT32_MAX.
+  uint32_t BodyAt(const b2Vec2& p, const b2Body* self) {
+    struct Query : b2QueryCallback {
+      b2Vec2 point;
+      const b2Body* self;
+      uint32_t found = UINT32_MAX;
+      bool ReportFixture(b2Fixture* f) override {
+        b2Body* b = f->GetBody();
+        if (b != self && b->GetType() == b2_dynamicBody && f->TestPoint(point)) {
+          found = std::min(found, static_cast<uint32_t>(b->GetUserData().pointer));
+        }
+        return true;
+      }
+    } query;
+    query.point = p;
+    query.self = self;
+    b2AABB box;
+    box.lowerBound = p - b2Vec2(0.001f, 0.001f);
+    box.upperBound = p + b2Vec2(0.001f, 0.001f);
+    world_->QueryAABB(&query, box);
+    return query.found;
+  }
+
+  void Ungrip(Space& space, size_t k) {
+    world_->DestroyJoint(grips_[k].joint);
+    if (GripperState* g = space.gripper(grips_[k].robot)) g->held = 0xFFFFFFFFu;
+    grips_.erase(grips_.begin() + static_cast<std::ptrdiff_t>(k));
+  }
+
   // Force and torque towards the wheels' command, within the treels' limits.
   void Drive(Space& space, uint32_t s, double h) {
     b2Body* body = bodies_[s];
@@ -196,6 +265,7 @@ class Dynamics2dEngine : public PhysicsEngine {
   std::vector<b2Body*> bodies_;   // per space slot
   std::vector<uint32_t> robots_;  // slots of wheeled robots, in the order they came
   std::vector<uint32_t> objects_; // slots of movable objects
+  std::vector<Grip> grips_;
   int velocity_iterations_ = 8, position_iterations_ = 3, substeps_ = 2;
   double friction_ = 0.5, floor_friction_ = 0.5, max_force_ = 15.0, max_torque_ = 1.5;
 };

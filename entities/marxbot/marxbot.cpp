@@ -25,6 +25,7 @@ class MarxbotType : public EntityType {
     init.color = node.GetColor("color", Color{60, 60, 60, 255});
     init.led_count = kLedCount;
     init.has_drive = true;
+    init.has_gripper = true;
     init.drive.wheel_base = kWheelBase;
     init.drive.wheel_radius = kWheelRadius;
     init.drive.max_speed = kMaxSpeed;

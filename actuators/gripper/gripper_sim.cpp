@@ -1,0 +1,70 @@
+// Simulated turret and gripper: the turret turns towards its target at
+// turret_speed (not while holding); the grip command goes to the engine,
+// which joins the robot to what is in front of the jaws. Only engines that
+// simulate gripping accept it (dynamics2d); elsewhere it is a load-time error.
+#include <algorithm>
+#include <cmath>
+
+#include "actuators/gripper/gripper.h"
+#include "core/device.h"
+#include "core/simulation.h"
+
+namespace colony {
+namespace {
+
+struct GripperInstance : GripperActuator, InstanceBase {
+  using Interface = GripperActuator;
+};
+
+class GripperSystem : public ActuatorSystem {
+ public:
+  void Configure(const ConfigNode& node) override {
+    turret_speed_ = node.GetDouble("turret_speed", 1.0, Range::Positive());
+    reach_ = node.GetDouble("reach", 0.02, Range::Positive());
+  }
+
+  Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
+    GripperState* g = sim().space().gripper(robot.index);
+    if (!g) throw AttachError("it has no gripper");
+    const PhysicsEngine* engine = sim().EngineOf(robot);
+    if (!engine || !engine->SimulatesGripping()) {
+      throw AttachError("its physics engine (" + (engine ? engine->label() + " '" + engine->id() + "'" : "none") +
+                        ") does not simulate gripping; use dynamics2d");
+    }
+    g->turret_speed = turret_speed_;
+    g->reach = reach_;
+    return &instances_.Add(robot, rng);
+  }
+  void Detach(Actuator* a) override { instances_.Remove(static_cast<GripperActuator*>(a)); }
+  size_t size() const override { return instances_.size(); }
+
+  void Act(size_t begin, size_t end) override {
+    Space& space = sim().space();
+    const double max_turn = turret_speed_ * sim().dt();
+    for (size_t k = begin; k < end; ++k) {
+      GripperInstance& a = instances_[k];
+      if (!a.alive) continue;
+      GripperState& g = *space.gripper(a.robot.index);
+      g.want_grip = a.gripping();
+      if (g.holding()) continue;
+      const double target = std::isfinite(a.turret_target()) ? WrapAngle(a.turret_target()) : g.turret;
+      g.turret = WrapAngle(g.turret + std::clamp(WrapAngle(target - g.turret), -max_turn, max_turn));
+    }
+  }
+
+ private:
+  double turret_speed_ = 1.0, reach_ = 0.02;
+  InstanceStore<GripperInstance> instances_;
+};
+
+COLONY_REGISTER_ACTUATOR(
+    GripperSystem, "gripper", "default",
+    "the marXbot's docking turret and gripper: turn the turret, grip what is in front of the jaws, "
+    "release (needs an engine that simulates gripping: dynamics2d)",
+    (std::vector<AttributeDoc>{
+        {"turret_speed", "a number > 0 (rad/s)", "1", "how fast the turret turns"},
+        {"reach", "a number > 0 (m)", "0.02", "how far beyond the body the jaws close on something"},
+    }));
+
+}  // namespace
+}  // namespace colony
