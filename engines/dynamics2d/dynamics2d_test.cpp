@@ -86,3 +86,22 @@ TEST(Dynamics2d, BadParametersAreRejectedWithElementAndLine) {
 
 }  // namespace
 }  // namespace colony
+
+namespace colony {
+namespace {
+
+TEST(Dynamics2dExamples, GrippingExperimentDragsTheCylinderIntoTheCorner) {
+  ExperimentOptions options;
+  options.file = COLONY_SOURCE_DIR "/experiments/gripping.xml";
+  auto sim = Simulation::Load(options);
+  const uint32_t cylinder = sim->space().Find("cylinder").index;
+  const Vec3 start = sim->space().pose(cylinder).position;
+  while (!sim->Done()) sim->Step();
+  const Vec3 end = sim->space().pose(cylinder).position;
+  EXPECT_GT((end - start).norm(), 1.5) << "the cylinder was dragged across the arena";
+  EXPECT_LT(std::hypot(end.x() - 1.3, end.y() - 1.3), 0.1) << "it ends at the corner";
+  EXPECT_FALSE(sim->space().gripper(sim->space().Find("mb").index)->holding()) << "and was let go";
+}
+
+}  // namespace
+}  // namespace colony
