@@ -323,6 +323,10 @@ class ExperimentLoader {
   std::vector<int> EnginesFor(const EntityDesc& desc, const std::vector<const PhysicsModel*>& models,
                               const ConfigNode& node);
   void ReadBoundaries(const ConfigNode& engine_node, PhysicsEngine& engine);
+  template <class System>
+  void ReadDevices(const ConfigNode& section, const std::string& what, std::vector<std::string>& labels,
+                   std::vector<System*>& systems, std::vector<ConfigNode>& nodes,
+                   std::vector<std::unique_ptr<System>>& owned);
 
   Simulation& sim_;
   const ExperimentOptions& options_;
@@ -465,37 +469,34 @@ void ExperimentLoader::ReadControllers(const ConfigNode& root) {
       params.CheckChildren({});
       config->params = params.ToParams();
     }
-    for (const ConfigNode& s : node.Child("sensors").Children()) {
-      const std::string impl = s.GetString("implementation", "default");
-      const auto* e = FindPlugin<SensorSystem>(s, "sensor", s.name(), impl);
-      if (!e) continue;
-      auto names = e->info.AttributeNames();
-      names.push_back("implementation");
-      s.CheckAttributes(names);
-      auto system = e->create();
-      system->Bind(&sim_);
-      system->Configure(s);
-      config->sensor_labels.push_back(s.name());
-      config->sensors.push_back(system.get());
-      config->sensor_nodes.push_back(s);
-      sim_.sensor_systems_.push_back(std::move(system));
-    }
-    for (const ConfigNode& a : node.Child("actuators").Children()) {
-      const std::string impl = a.GetString("implementation", "default");
-      const auto* e = FindPlugin<ActuatorSystem>(a, "actuator", a.name(), impl);
-      if (!e) continue;
-      auto names = e->info.AttributeNames();
-      names.push_back("implementation");
-      a.CheckAttributes(names);
-      auto system = e->create();
-      system->Bind(&sim_);
-      system->Configure(a);
-      config->actuator_labels.push_back(a.name());
-      config->actuators.push_back(system.get());
-      config->actuator_nodes.push_back(a);
-      sim_.actuator_systems_.push_back(std::move(system));
-    }
+    ReadDevices(node.Child("sensors"), "sensor", config->sensor_labels, config->sensors, config->sensor_nodes,
+                sim_.sensor_systems_);
+    ReadDevices(node.Child("actuators"), "actuator", config->actuator_labels, config->actuators,
+                config->actuator_nodes, sim_.actuator_systems_);
     sim_.controller_configs_.push_back(std::move(config));
+  }
+}
+
+// Creates one system per device element of a controller's <sensors> or
+// <actuators>, checking its attributes against the registered list.
+template <class System>
+void ExperimentLoader::ReadDevices(const ConfigNode& section, const std::string& what, std::vector<std::string>& labels,
+                                   std::vector<System*>& systems, std::vector<ConfigNode>& nodes,
+                                   std::vector<std::unique_ptr<System>>& owned) {
+  for (const ConfigNode& d : section.Children()) {
+    const std::string impl = d.GetString("implementation", "default");
+    const auto* entry = FindPlugin<System>(d, what, d.name(), impl);
+    if (!entry) continue;
+    auto names = entry->info.AttributeNames();
+    names.push_back("implementation");
+    d.CheckAttributes(names);
+    auto system = entry->create();
+    system->Bind(&sim_);
+    system->Configure(d);
+    labels.push_back(d.name());
+    systems.push_back(system.get());
+    nodes.push_back(d);
+    owned.push_back(std::move(system));
   }
 }
 
