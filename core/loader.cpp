@@ -593,7 +593,8 @@ void ExperimentLoader::ReadOptionalSections(const ConfigNode& root) {
     for (const ConfigNode& child : node.Children()) {
       if (std::string(section) == "media") {
         FindPlugin<Medium>(child, "medium", child.name(), "default");
-      } else if (const auto* entry = FindPlugin<Renderer>(child, "renderer", child.name(), "default")) {
+      } else if (const auto* entry =
+                     FindPlugin<Renderer>(child, "renderer", child.name(), "default")) {
         child.CheckAttributes(entry->info.AttributeNames());
         auto renderer = entry->create();
         renderer->Bind(&sim_);

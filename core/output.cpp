@@ -128,14 +128,23 @@ RunSummary RunToEnd(Simulation& sim, RunOutput* out, double load_seconds,
   double step_seconds = 0;
   double robot_ticks = 0;
   const auto start = Clock::now();
+  // Renderers draw the initial state, then every tick's, between steps.
+  for (const auto& r : sim.renderers()) {
+    if (out && r->output_dir().empty()) {
+      r->set_output_dir((fs::path(out->dir()) / "frames").string());
+    }
+    r->AfterTick();
+  }
   while (!sim.Done()) {
     const auto t0 = Clock::now();
     sim.Step();
     step_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     robot_ticks += static_cast<double>(sim.robot_count());
     if (out) out->AfterTick(sim);
+    for (const auto& r : sim.renderers()) r->AfterTick();
     if (progress) progress(sim);
   }
+  for (const auto& r : sim.renderers()) r->Finish();
   RunSummary s;
   s.ticks = sim.tick();
   s.simulated_seconds = sim.time();

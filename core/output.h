@@ -3,6 +3,7 @@
 //   experiment.xml  the experiment as resolved (overrides applied)
 //   metrics.csv     tick, time and the loop functions' metrics, every K ticks
 //   hashes.csv      tick and state hash, when <output hash_every> is set
+//   frames/         PNG frames, when a renderer draws and no other folder is given
 //   summary.json    written last and atomically, only when the run completed:
 //                   ticks, simulated_seconds, wall_seconds, step_seconds,
 //                   robots, threads, seed, robot_steps_per_second,

@@ -265,10 +265,12 @@ Renderer& Simulation::AddRenderer(const std::string& xml) {
   const auto* entry = Registry<Renderer>::Get().Find(node.name());
   if (!entry) {
     std::string available;
-    for (const auto& label : Registry<Renderer>::Get().Labels()) available += (available.empty() ? "" : ", ") + label;
-    throw ConfigError("no renderer '" + node.name() + "' in this build; " +
-                      (available.empty() ? "none is (was it built with -DCOLONY_WITH_OSMESA=OFF?)"
-                                         : "available: " + available));
+    for (const auto& label : Registry<Renderer>::Get().Labels()) {
+      available += (available.empty() ? "" : ", ") + label;
+    }
+    throw ConfigError("no renderer '" + node.name() + "' in this build" +
+                      (available.empty() ? ": it has none (built with -DCOLONY_WITH_OSMESA=OFF?)"
+                                         : "; available: " + available));
   }
   node.CheckAttributes(entry->info.AttributeNames());
   auto renderer = entry->create();

@@ -1,9 +1,13 @@
 // colony: the command line program.
 //   colony run FILE.xml [--threads N] [--seed S] [--set PATH=VALUE]... [--out DIR] [--quiet]
+//              [--frames DIR] [--video FILE.mp4]
 //   colony query [KIND|NAME]
+//   colony sweep FILE.xml [--param PATH=V1,V2,...]... [--seeds A..B] ...  (apps/colony/sweep.h)
 //   colony version
 // Exit status: 0 success, 2 bad input (file or command line), 1 failure while running.
 #include <dirent.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -15,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/colony/sweep.h"
 #include "core/log.h"
 #include "core/output.h"
 #include "core/plugin_loader.h"
@@ -28,11 +33,17 @@ using colony::ConfigError;
 constexpr const char* kUsage =
     "usage:\n"
     "  colony run FILE.xml [--threads N] [--seed S] [--set PATH=VALUE]... [--out DIR] [--quiet]\n"
+    "             [--frames DIR] [--video FILE.mp4]\n"
     "  colony query [KIND|NAME]      list plugins (kinds: entity, engine, physics_model, sensor,\n"
     "                                actuator, medium, renderer, controller, loop_functions)\n"
+    "  colony sweep FILE.xml [--param PATH=V1,V2,...]... [--seeds 1..30] [--jobs N] [--out DIR] ...\n"
+    "                                many runs over parameters and seeds (colony sweep --help)\n"
     "  colony version\n"
     "--set overrides an attribute: framework.experiment.length=10, arena.distribute.entity.quantity=50,\n"
-    "  controllers.diffusion[dc].params.velocity=0.1 (name[id] picks an element by id)\n";
+    "  controllers.diffusion[dc].params.velocity=0.1 (name[id] picks an element by id)\n"
+    "--frames DIR writes PNG frames there (the file's <visualization>, else a camera over the\n"
+    "  arena); --video FILE.mp4 also assembles them with ffmpeg (frames then go to the run\n"
+    "  folder's frames/ unless --frames is given)\n";
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -82,9 +93,49 @@ class Progress {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
 };
 
+// Whether an executable `program` is on the PATH.
+bool OnPath(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  if (!path) return false;
+  for (const auto& dir : colony::SplitList(path, ':')) {
+    if (!dir.empty() && access((dir + "/" + program).c_str(), X_OK) == 0) return true;
+  }
+  return false;
+}
+
+// Runs ffmpeg over each camera's frames: `video` itself for one camera,
+// NAME_CAMERA.EXT for several. Returns the files made.
+std::vector<std::string> MakeVideos(const std::vector<colony::FrameSeries>& series,
+                                    const std::string& video) {
+  std::vector<std::string> made;
+  for (const auto& s : series) {
+    if (s.frames == 0) throw colony::RuntimeFailure("--video: no frames were drawn");
+    const std::filesystem::path v(video);
+    const std::string name = v.stem().string() + "_" + s.camera + v.extension().string();
+    const std::string out = series.size() == 1 ? video : (v.parent_path() / name).string();
+    char fps[32];
+    std::snprintf(fps, sizeof fps, "%.6g", s.frames_per_second);
+    std::vector<std::string> words = {
+        "ffmpeg", "-y", "-loglevel", "error", "-framerate", fps, "-i", s.pattern,
+        "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",  // H.264 players want even sizes
+        "-pix_fmt", "yuv420p", out};
+    std::vector<char*> argv;
+    for (auto& w : words) argv.push_back(w.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    int status = 0;
+    if (posix_spawnp(&pid, "ffmpeg", nullptr, nullptr, argv.data(), environ) != 0 ||
+        waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+      throw colony::RuntimeFailure("ffmpeg failed to make '" + out + "' from " + s.pattern);
+    }
+    made.push_back(out);
+  }
+  return made;
+}
+
 int Run(const std::vector<std::string>& args) {
   colony::ExperimentOptions options;
-  std::string out_dir;
+  std::string out_dir, frames_dir, video;
   bool quiet = false;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
@@ -107,6 +158,12 @@ int Run(const std::vector<std::string>& args) {
       if (out_dir.empty()) throw UsageError("--out needs a folder");
     } else if (a == "--quiet") {
       quiet = true;
+    } else if (a == "--frames") {
+      frames_dir = value("--frames");
+      if (frames_dir.empty()) throw UsageError("--frames needs a folder");
+    } else if (a == "--video") {
+      video = value("--video");
+      if (video.empty()) throw UsageError("--video needs a file name, e.g. run.mp4");
     } else if (!a.empty() && a[0] == '-') {
       throw UsageError("unknown option '" + a + "'");
     } else if (options.file.empty()) {
@@ -117,9 +174,22 @@ int Run(const std::vector<std::string>& args) {
   }
   if (options.file.empty()) throw UsageError("colony run needs an experiment file");
   if (quiet) colony::SetLogLevel(colony::LogLevel::kError);
+  // Decided before running: a long run should not end without its video.
+  if (!video.empty() && !OnPath("ffmpeg")) {
+    throw UsageError(
+        "--video needs ffmpeg, which is not installed (no 'ffmpeg' on the PATH); install it "
+        "(Debian: apt-get install ffmpeg), or use --frames DIR and assemble the PNG frames "
+        "elsewhere");
+  }
 
   const auto t0 = std::chrono::steady_clock::now();
   auto sim = colony::Simulation::Load(options);
+  if ((!frames_dir.empty() || !video.empty()) && sim->renderers().empty()) {
+    sim->AddRenderer("<osmesa/>");  // a camera over the whole arena
+  }
+  if (!frames_dir.empty()) {
+    for (const auto& r : sim->renderers()) r->set_output_dir(frames_dir);
+  }
   const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (out_dir.empty()) out_dir = colony::FreshRunDir("runs", options.file);
   colony::RunOutput output(out_dir, *sim);
@@ -127,6 +197,15 @@ int Run(const std::vector<std::string>& args) {
   const auto summary = colony::RunToEnd(*sim, &output, load_seconds,
                                         [&](const colony::Simulation& s) { progress.Update(s); });
   progress.Finish();
+  if (!video.empty()) {
+    std::vector<colony::FrameSeries> series;
+    for (const auto& r : sim->renderers()) {
+      for (auto& s : r->frame_series()) series.push_back(std::move(s));
+    }
+    for (const auto& file : MakeVideos(series, video)) {
+      if (!quiet) std::printf("video %s\n", file.c_str());
+    }
+  }
   if (!quiet) {
     std::printf("%llu ticks (%.1f s simulated) of %zu robots in %.2f s (%.3g robot-steps/s, %d thread%s)\n",
                 static_cast<unsigned long long>(summary.ticks), summary.simulated_seconds, summary.robots,
@@ -198,6 +277,7 @@ int main(int argc, char** argv) {
     args.erase(args.begin());
     if (command == "run") return Run(args);
     if (command == "query") return Query(args);
+    if (command == "sweep") return colony::sweep::SweepCommand(args);
     if (command == "version" || command == "--version") {
       std::printf("colony %s\n", COLONY_VERSION);
       return 0;

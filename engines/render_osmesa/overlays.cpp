@@ -1,0 +1,89 @@
+#include "engines/render_osmesa/overlays.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/geometry2d.h"
+#include "core/simulation.h"
+#include "engines/render_osmesa/font.h"
+
+namespace colony::render {
+
+void Trails::Record(const Space& space) {
+  if (trails_.size() < space.slots()) trails_.resize(space.slots());
+  for (uint32_t i = 0; i < space.slots(); ++i) {
+    Trail& t = trails_[i];
+    const EntityHandle h = space.HandleOf(i);
+    if (!space.alive(i) || !space.movable(i)) {
+      t.points.clear();
+      continue;
+    }
+    if (t.generation != h.generation) t.points.clear();
+    t.generation = h.generation;
+    t.points.push_back(space.pose(i).position.head<2>().cast<float>());
+    if (static_cast<int>(t.points.size()) > length_) t.points.pop_front();
+  }
+}
+
+void Trails::AddTo(const Space& space, SceneBatch& batch) const {
+  const double z = space.arena_min().z();
+  for (const Trail& t : trails_) {
+    const size_t n = t.points.size();
+    for (size_t k = 1; k < n; ++k) {
+      auto color = [n](size_t at) {
+        return Color{30, 110, 230, static_cast<uint8_t>(220 * at / (n - 1))};
+      };
+      const Eigen::Vector2f& a = t.points[k - 1];
+      const Eigen::Vector2f& b = t.points[k];
+      AddLine(batch.wide_floor_lines, Vec3(a.x(), a.y(), z), Vec3(b.x(), b.y(), z), color(k - 1),
+              color(k));
+    }
+  }
+}
+
+void AddProximityRays(const Simulation& sim, uint32_t slot, SceneBatch& batch) {
+  const Space& space = sim.space();
+  const RingMount* ring = sim.MountsOf(space.HandleOf(slot)).Ring("proximity");
+  if (!ring) return;
+  const Pose& pose = space.pose(slot);
+  const Vec2 c = pose.position.head<2>();
+  const double z = pose.position.z() + ring->elevation, reach = ring->radius + ring->range;
+  std::vector<uint32_t> near;
+  space.Gather(c.x() - reach, c.y() - reach, c.x() + reach, c.y() + reach, near);
+  std::erase_if(near, [&](uint32_t o) {
+    const double bottom = space.pose(o).position.z();
+    return o == slot || z < bottom || z >= bottom + space.geometry(o).height();
+  });
+  const double yaw = YawOf(pose.orientation);
+  const Color free{40, 200, 240, 150}, hit{255, 40, 160, 230};
+  for (int i = 0; i < ring->count; ++i) {
+    const double a = yaw + ring->AngleOf(i);
+    const Vec2 dir(std::cos(a), std::sin(a));
+    const Vec2 origin = c + ring->radius * dir;
+    double best = kNoHit;
+    for (uint32_t o : near)
+      best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
+    const double length = std::min(best, ring->range);
+    const Vec2 end = origin + length * dir;
+    const Color color = best <= ring->range ? hit : free;
+    AddLine(batch.lines, Vec3(origin.x(), origin.y(), z), Vec3(end.x(), end.y(), z), color, color);
+  }
+}
+
+void DrawRobotIds(const Space& space, const View& view, Image& image) {
+  const int scale = 1 + image.height / 1200;
+  for (uint32_t i = 0; i < space.slots(); ++i) {
+    if (!space.alive(i) || !(space.flags(i) & kRobot)) continue;
+    const Vec3 top = space.pose(i).position + Vec3(0, 0, space.geometry(i).height() + 0.02);
+    const auto pixel = view.ToPixel(top);
+    if (!pixel || pixel->x() < 0 || pixel->x() >= image.width || pixel->y() < 0 ||
+        pixel->y() >= image.height)
+      continue;
+    const int text_height = 7 * scale;
+    DrawText(image, static_cast<int>(pixel->x()),
+             static_cast<int>(pixel->y()) - text_height - 2 * scale, space.id(i), scale,
+             Color::White());
+  }
+}
+
+}  // namespace colony::render

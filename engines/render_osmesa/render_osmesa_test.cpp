@@ -1,0 +1,503 @@
+// The osmesa renderer as a user meets it: frames from <visualization> with no
+// display, what they show, meshes, overlays, bad settings, results unchanged,
+// and `colony run --frames / --video`.
+#include <png.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "core/output.h"
+#include "core/registry.h"
+#include "tests/test_util.h"
+
+namespace colony {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::Experiment;
+using testing::LoadError;
+using testing::LoadXml;
+
+// Holds its LEDs at the colour given in <leds color>.
+class LedHolder : public Controller {
+ public:
+  void ControlStep() override {}
+};
+COLONY_REGISTER_CONTROLLER(LedHolder, "led_holder",
+                           "test: does nothing; its LEDs keep their colour");
+
+const std::string kRedRobots =
+    "<led_holder id=\"red\"><actuators><leds color=\"red\"/></actuators></led_holder>";
+
+std::string Robot(const std::string& id, const std::string& position,
+                  const std::string& config = "red") {
+  return "<marxbot id=\"" + id + "\"><body position=\"" + position + "\"/><controller config=\"" +
+         config + "\"/></marxbot>";
+}
+
+std::string Visualization(const std::string& osmesa_attributes, const std::string& children) {
+  return "\n<visualization>\n  <osmesa " + osmesa_attributes + ">\n    " + children +
+         "\n  </osmesa>\n</visualization>";
+}
+
+// A camera 1 m above (x, y), looking straight down, north up.
+std::string TopCamera(const std::string& x_y) {
+  return "<camera id=\"top\" position=\"" + x_y + ",1\" look_at=\"" + x_y +
+         ",0\" up=\"0,1,0\" fov=\"60\"/>";
+}
+
+struct Png {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;
+  Color At(int x, int y) const {
+    const uint8_t* p = rgb.data() + (static_cast<size_t>(y) * width + x) * 3;
+    return {p[0], p[1], p[2], 255};
+  }
+};
+
+Png ReadPng(const fs::path& path) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  Png out;
+  if (!png_image_begin_read_from_file(&image, path.c_str())) {
+    ADD_FAILURE() << "cannot read " << path;
+    return out;
+  }
+  image.format = PNG_FORMAT_RGB;
+  out.width = static_cast<int>(image.width);
+  out.height = static_cast<int>(image.height);
+  out.rgb.resize(PNG_IMAGE_SIZE(image));
+  EXPECT_TRUE(png_image_finish_read(&image, nullptr, out.rgb.data(), 0, nullptr)) << path;
+  return out;
+}
+
+void WriteTwoColourPng(const fs::path& path, Color top, Color bottom) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = 4;
+  image.height = 4;
+  image.format = PNG_FORMAT_RGB;
+  std::vector<uint8_t> rgb;
+  for (int y = 0; y < 4; ++y) {
+    for (int x = 0; x < 4; ++x) {
+      const Color c = y < 2 ? top : bottom;
+      rgb.insert(rgb.end(), {c.r, c.g, c.b});
+    }
+  }
+  ASSERT_TRUE(png_image_write_to_file(&image, path.c_str(), 0, rgb.data(), 0, nullptr));
+}
+
+std::string Hex(Color c) {
+  return std::to_string(c.r) + "," + std::to_string(c.g) + "," + std::to_string(c.b);
+}
+
+void ExpectNear(Color actual, Color expected, int tolerance, const std::string& where) {
+  EXPECT_NEAR(actual.r, expected.r, tolerance)
+      << where << ": " << Hex(actual) << " vs " << Hex(expected);
+  EXPECT_NEAR(actual.g, expected.g, tolerance)
+      << where << ": " << Hex(actual) << " vs " << Hex(expected);
+  EXPECT_NEAR(actual.b, expected.b, tolerance)
+      << where << ": " << Hex(actual) << " vs " << Hex(expected);
+}
+
+class Rendering : public ::testing::Test {
+ protected:
+  // Rendering needs no display: prove it by having none.
+  void SetUp() override { unsetenv("DISPLAY"); }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Loads `xml`, points its renderers at a fresh folder and draws tick 0.
+  std::unique_ptr<Simulation> Render(const std::string& xml) {
+    auto sim = LoadXml(xml);
+    for (const auto& r : sim->renderers()) {
+      r->set_output_dir(dir_.string());
+      r->AfterTick();
+    }
+    return sim;
+  }
+
+  const fs::path dir_ =
+      fs::temp_directory_path() / ("colony_render_test_" + std::to_string(getpid()));
+};
+
+TEST_F(Rendering, WritesFramesOfTheRequestedSizeEveryKTicks) {
+  auto sim = LoadXml(
+      Experiment(Robot("r", "0,0,0"), kRedRobots, "4,4,1",
+                 Visualization("width=\"320\" height=\"240\" every=\"3\"", TopCamera("0,0"))));
+  ASSERT_EQ(sim->renderers().size(), 1u);
+  sim->renderers()[0]->set_output_dir(dir_.string());
+  RunToEnd(*sim, nullptr, 0, {});  // 100 ticks: frames of ticks 0, 3, ..., 99
+  for (int k = 0; k < 34; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "top_%06d.png", k);
+    const Png png = ReadPng(dir_ / name);
+    EXPECT_EQ(png.width, 320) << name;
+    EXPECT_EQ(png.height, 240) << name;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "top_000034.png"));
+  const auto series = sim->renderers()[0]->frame_series();
+  ASSERT_EQ(series.size(), 1u);
+  EXPECT_EQ(series[0].camera, "top");
+  EXPECT_EQ(series[0].pattern, (dir_ / "top_%06d.png").string());
+  EXPECT_EQ(series[0].frames, 34u);
+  EXPECT_DOUBLE_EQ(series[0].frames_per_second, 10.0 / 3);
+}
+
+TEST_F(Rendering, RedLitMarxbotSeenFromAboveIsRedAtItsCentreOnTheFloorColour) {
+  const Color floor{40, 90, 200, 255};
+  Render(Experiment(
+      "<floor color=\"" + Hex(floor) + "\"/>" + Robot("r", "0.5,-0.3,0"), kRedRobots, "4,4,1",
+      Visualization("width=\"200\" height=\"200\" grid=\"0\"", TopCamera("0.5,-0.3"))));
+  const Png png = ReadPng(dir_ / "top_000000.png");
+  ASSERT_EQ(png.width, 200);
+  // The beacon at the centre, the LED ring around it (0.07 m out: 14 pixels).
+  for (const auto& [x, y] : {std::pair{100, 100}, {114, 100}, {100, 86}, {86, 100}}) {
+    const Color c = png.At(x, y);
+    EXPECT_GT(c.r, 200) << x << "," << y << ": " << Hex(c);
+    EXPECT_LT(c.g, 50) << x << "," << y << ": " << Hex(c);
+    EXPECT_LT(c.b, 50) << x << "," << y << ": " << Hex(c);
+  }
+  // Everywhere away from the robot (over 0.1 m = 17 pixels off): the floor, exactly.
+  for (const auto& [x, y] :
+       {std::pair{5, 5}, {194, 5}, {5, 194}, {194, 194}, {100, 125}, {130, 100}}) {
+    ExpectNear(png.At(x, y), floor, 1, std::to_string(x) + "," + std::to_string(y));
+  }
+}
+
+TEST_F(Rendering, FloorImageIsDrawnTheWayGroundSensorsReadIt) {
+  fs::create_directories(dir_);
+  const Color north{220, 30, 30, 255}, south{30, 30, 220, 255};
+  WriteTwoColourPng(dir_ / "floor.png", north, south);
+  Render(Experiment("<floor source=\"image\" path=\"" + (dir_ / "floor.png").string() + "\"/>", "",
+                    "2,2,1",
+                    Visualization("width=\"200\" height=\"200\" grid=\"0\"", TopCamera("0,0"))));
+  const Png png = ReadPng(dir_ / "top_000000.png");
+  ExpectNear(png.At(100, 40), north, 2, "north half");
+  ExpectNear(png.At(100, 160), south, 2, "south half");
+}
+
+TEST_F(Rendering, GridIsFaintAndCanBeTurnedOff) {
+  const std::string arena = "<floor color=\"white\"/>";
+  // 1 m grid: the lines x = 0 and y = 0 cross under the camera.
+  Render(Experiment(arena, "", "4,4,1",
+                    Visualization("width=\"201\" height=\"201\"", TopCamera("0,0"))));
+  const Color line = ReadPng(dir_ / "top_000000.png").At(100, 100);
+  EXPECT_LT(line.r, 250);
+  EXPECT_GT(line.r, 150);  // faint, not black
+  Render(Experiment(arena, "", "4,4,1",
+                    Visualization("width=\"201\" height=\"201\" grid=\"0\"", TopCamera("0,0"))));
+  ExpectNear(ReadPng(dir_ / "top_000000.png").At(100, 100), Color::White(), 0, "no grid");
+}
+
+TEST_F(Rendering, MeshFileLoadsAndReplacesTheEntitysShape) {
+  // A 0.4 m box dressed as a 0.2 m orange pyramid: orange at the apex, floor
+  // where only the box would have been.
+  const Color floor{40, 90, 200, 255};
+  const std::string mesh = COLONY_SOURCE_DIR "/experiments/meshes/pyramid.obj";
+  Render(Experiment("<floor color=\"" + Hex(floor) +
+                        "\"/><box id=\"b\" size=\"0.4,0.4,0.2\"><body position=\"0,0,0\"/></box>",
+                    "", "4,4,1",
+                    Visualization("width=\"200\" height=\"200\" grid=\"0\"",
+                                  TopCamera("0,0") + "<mesh entity=\"b\" file=\"" + mesh +
+                                      "\" scale=\"0.2\"/>")));
+  const Png png = ReadPng(dir_ / "top_000000.png");
+  for (const auto& [x, y] : {std::pair{100, 100}, {100, 93}, {107, 100}}) {
+    const Color c = png.At(x, y);
+    EXPECT_GT(c.r, 100) << x << "," << y << ": " << Hex(c);
+    EXPECT_GT(c.r, c.g + 40) << x << "," << y << ": " << Hex(c);
+    EXPECT_LT(c.b, 30) << x << "," << y << ": " << Hex(c);
+  }
+  ExpectNear(png.At(126, 100), floor, 1, "inside the box, outside the pyramid");
+}
+
+TEST_F(Rendering, MeshByTypeDressesEveryEntityOfThatTypeInItsColour) {
+  const std::string mesh = COLONY_SOURCE_DIR "/experiments/meshes/pyramid.obj";
+  const std::string cylinders =
+      "<cylinder id=\"c1\" radius=\"0.1\" height=\"0.1\"><body position=\"-0.5,0,0\"/></cylinder>"
+      "<cylinder id=\"c2\" radius=\"0.1\" height=\"0.1\"><body position=\"0.5,0,0\"/></cylinder>";
+  Render(Experiment(cylinders, "", "4,4,1",
+                    Visualization("width=\"200\" height=\"200\" grid=\"0\"",
+                                  TopCamera("0,0") + "<mesh type=\"cylinder\" file=\"" + mesh +
+                                      "\" scale=\"0.2\" color=\"green\"/>")));
+  const Png png = ReadPng(dir_ / "top_000000.png");
+  for (int x : {100 - 87, 100 + 87}) {
+    const Color c = png.At(x, 100);
+    EXPECT_GT(c.g, 60) << x << ": " << Hex(c);
+    EXPECT_LT(c.r, 20) << x << ": " << Hex(c);
+  }
+}
+
+TEST_F(Rendering, OverlaysAreDrawnOnlyWhenSwitchedOn) {
+  // A robot beside a box: its proximity rays hit the box; its id is written above it.
+  const std::string arena =
+      "<floor color=\"gray50\"/>" + Robot("r7", "0,0,0") +
+      "<box id=\"b\" size=\"0.1,0.6,0.3\"><body position=\"0.16,0,0\"/></box>";
+  auto count = [](const Png& png, auto predicate) {
+    int n = 0;
+    for (int y = 0; y < png.height; ++y)
+      for (int x = 0; x < png.width; ++x) n += predicate(png.At(x, y));
+    return n;
+  };
+  auto white = [](Color c) { return c.r > 240 && c.g > 240 && c.b > 240; };
+  auto purple = [](Color c) { return c.r > 150 && c.b > 90 && c.g < 90; };
+  auto cyan = [](Color c) { return c.b > 150 && c.g > 130 && c.r < 110; };
+  const std::string camera =
+      "<camera id=\"top\" position=\"0,-0.3,1\" look_at=\"0,0,0\" fov=\"40\"/>";
+  Render(Experiment(arena, kRedRobots, "4,4,1",
+                    Visualization("width=\"300\" height=\"300\"", camera)));
+  const Png plain = ReadPng(dir_ / "top_000000.png");
+  Render(Experiment(
+      arena, kRedRobots, "4,4,1",
+      Visualization("width=\"300\" height=\"300\" ids=\"true\" proximity_rays=\"true\"", camera)));
+  const Png overlaid = ReadPng(dir_ / "top_000000.png");
+  EXPECT_EQ(count(plain, white), 0);
+  EXPECT_GT(count(overlaid, white), 10);
+  EXPECT_EQ(count(plain, purple), 0);
+  EXPECT_GT(count(overlaid, purple), 10);  // rays that hit the box
+  EXPECT_GT(count(overlaid, cyan), 10);    // rays that see nothing
+}
+
+TEST_F(Rendering, TrailsFollowTheRobots) {
+  // A robot driven straight along +x leaves a blue line on the floor behind it.
+  const std::string controllers =
+      "<diffusion id=\"dc\" library=\"diffusion\"><actuators><differential_steering/></actuators>"
+      "<sensors><proximity/></sensors><params alpha=\"7.5\" delta=\"0.1\" "
+      "velocity=\"0.2\"/></diffusion>";
+  auto sim = LoadXml(Experiment(
+      "<floor color=\"white\"/>" + Robot("r", "-0.5,0,0", "dc"), controllers, "4,4,1",
+      Visualization("width=\"200\" height=\"200\" grid=\"0\" every=\"20\" trails=\"true\"",
+                    TopCamera("0,0"))));
+  sim->renderers()[0]->set_output_dir(dir_.string());
+  RunToEnd(*sim, nullptr, 0, {});
+  const Png png = ReadPng(dir_ / "top_000001.png");  // tick 20: the robot is at x = -0.1
+  const Color behind = png.At(100 - 60, 100);        // x = -0.35
+  EXPECT_GT(behind.b, behind.r + 30) << Hex(behind);
+  ExpectNear(png.At(100 - 60, 130), Color::White(), 0, "beside the trail");
+}
+
+TEST_F(Rendering, DefaultCameraSeesTheWholeArena) {
+  const Color floor{40, 90, 200, 255};
+  auto sim = LoadXml(Experiment("<floor color=\"" + Hex(floor) + "\"/>", "", "6,3,1"));
+  Renderer& r =
+      sim->AddRenderer("<osmesa width=\"320\" height=\"180\" grid=\"0\" background=\"black\"/>");
+  r.set_output_dir(dir_.string());
+  r.AfterTick();
+  const Png png = ReadPng(dir_ / "camera0_000000.png");
+  ASSERT_EQ(png.width, 320);
+  ExpectNear(png.At(160, 90), floor, 1, "centre");
+  // Background all around the edges: the floor fits inside.
+  for (int x = 0; x < 320; ++x) {
+    ExpectNear(png.At(x, 0), Color::Black(), 0, "top edge");
+    ExpectNear(png.At(x, 179), Color::Black(), 0, "bottom edge");
+  }
+  for (int y = 0; y < 180; ++y) {
+    ExpectNear(png.At(0, y), Color::Black(), 0, "left edge");
+    ExpectNear(png.At(319, y), Color::Black(), 0, "right edge");
+  }
+}
+
+TEST_F(Rendering, FollowCameraMovesWithItsEntity) {
+  // A chase camera behind a robot sees it at the image centre wherever it is.
+  const std::string camera =
+      "<camera id=\"chase\" follow=\"r\" position=\"-0.6,0,0.4\" look_at=\"0,0,0.1\" fov=\"50\"/>";
+  for (const std::string position : {"-1,1,0", "1,-0.5,0"}) {
+    Render(Experiment("<floor color=\"white\"/>" + Robot("r", position), kRedRobots, "4,4,1",
+                      Visualization("width=\"160\" height=\"120\" grid=\"0\"", camera)));
+    const Color c = ReadPng(dir_ / "chase_000000.png").At(80, 60);
+    EXPECT_LT(c.g, 200) << position << ": " << Hex(c);  // the robot, not the white floor
+  }
+}
+
+TEST_F(Rendering, RenderingDoesNotChangeTheResults) {
+  const std::string controllers =
+      "<diffusion id=\"dc\" library=\"diffusion\"><actuators><differential_steering/><leds "
+      "color=\"green\"/>"
+      "</actuators><sensors><proximity/></sensors><params alpha=\"7.5\" delta=\"0.1\" "
+      "velocity=\"0.1\"/></diffusion>";
+  const std::string arena =
+      "<walls thickness=\"0.1\" height=\"0.3\"/><distribute><position method=\"uniform\" "
+      "min=\"-1.5,-1.5,0\" "
+      "max=\"1.5,1.5,0\"/><orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/><entity "
+      "quantity=\"30\">"
+      "<marxbot id=\"mb\"><controller config=\"dc\"/></marxbot></entity></distribute>";
+  auto run = [&](const std::string& visualization, int threads) {
+    auto sim = LoadXml(Experiment(arena, controllers, "4,4,1", visualization), {}, threads);
+    for (const auto& r : sim->renderers()) r->set_output_dir(dir_.string());
+    return RunToEnd(*sim, nullptr, 0, {}).final_state_hash;
+  };
+  const std::string frames = Visualization(
+      "width=\"320\" height=\"240\" every=\"7\" ids=\"true\" trails=\"true\" "
+      "proximity_rays=\"true\"",
+      TopCamera("0,0") +
+          "<camera id=\"chase\" follow=\"mb3\" "
+          "position=\"-0.5,0,0.3\" look_at=\"0,0,0\"/>");
+  const uint64_t plain = run("", 0);
+  EXPECT_EQ(run(frames, 0), plain);
+  EXPECT_EQ(run(frames, 3), plain);
+  EXPECT_TRUE(fs::exists(dir_ / "chase_000014.png"));
+}
+
+// A bad setting names the file, line, element and attribute.
+std::string Bad(const std::string& osmesa_attributes, const std::string& children) {
+  return LoadError(Experiment(Robot("r", "0,0,0"), kRedRobots, "4,4,1",
+                              Visualization(osmesa_attributes, children)));
+}
+
+TEST(RenderingErrors, BadCamerasAreRejectedWithElementAndLine) {
+  const std::string zero_fov =
+      Bad("", "<camera id=\"c\" position=\"0,0,1\" look_at=\"0,0,0\" fov=\"0\"/>");
+  EXPECT_NE(zero_fov.find("<string>:4: <camera id=\"c\"> attribute 'fov'"), std::string::npos)
+      << zero_fov;
+  EXPECT_NE(zero_fov.find("(0, 179]"), std::string::npos) << zero_fov;
+  const std::string nowhere = Bad("", "<camera id=\"c\" position=\"1,2,3\" look_at=\"1,2,3\"/>");
+  EXPECT_NE(nowhere.find("<string>:4: <camera id=\"c\"> attribute 'look_at'"), std::string::npos)
+      << nowhere;
+  EXPECT_NE(nowhere.find("looks nowhere"), std::string::npos) << nowhere;
+  const std::string up = Bad("", "<camera position=\"0,0,1\" look_at=\"0,0,0\" up=\"0,0,1\"/>");
+  EXPECT_NE(up.find("attribute 'up'"), std::string::npos) << up;
+  const std::string missing = Bad("", "<camera id=\"c\" look_at=\"0,0,0\"/>");
+  EXPECT_NE(missing.find("attribute 'position'"), std::string::npos) << missing;
+  const std::string twice =
+      Bad("",
+          "<camera id=\"c\" position=\"0,0,1\" look_at=\"0,1,0\"/>\n<camera id=\"c\" "
+          "position=\"0,0,2\" look_at=\"0,1,0\"/>");
+  EXPECT_NE(twice.find("<string>:5: <camera id=\"c\"> attribute 'id'"), std::string::npos) << twice;
+  EXPECT_NE(twice.find("already used at line 4"), std::string::npos) << twice;
+}
+
+TEST(RenderingErrors, UnreadableMeshFilesAreRejectedWithElementAndLine) {
+  const std::string absent = Bad("", "<mesh type=\"marxbot\" file=\"/no/such/robot.obj\"/>");
+  EXPECT_NE(absent.find("<string>:4: <mesh> attribute 'file'"), std::string::npos) << absent;
+  EXPECT_NE(absent.find("cannot read mesh file '/no/such/robot.obj'"), std::string::npos) << absent;
+  const std::string not_a_mesh =
+      Bad("", "<mesh type=\"marxbot\" file=\"" COLONY_SOURCE_DIR "/README.md\"/>");
+  EXPECT_NE(not_a_mesh.find("attribute 'file'"), std::string::npos) << not_a_mesh;
+  const std::string type = Bad(
+      "", "<mesh type=\"marxbox\" file=\"" COLONY_SOURCE_DIR "/experiments/meshes/pyramid.obj\"/>");
+  EXPECT_NE(type.find("attribute 'type'"), std::string::npos) << type;
+  EXPECT_NE(type.find("marxbot"), std::string::npos) << type;
+  const std::string both = Bad("", "<mesh type=\"box\" entity=\"b\" file=\"x.obj\"/>");
+  EXPECT_NE(both.find("exactly one of type"), std::string::npos) << both;
+}
+
+TEST(RenderingErrors, BadRendererSettingsAreRejected) {
+  const std::string typo = Bad("widht=\"640\"", "");
+  EXPECT_NE(typo.find("did you mean 'width'"), std::string::npos) << typo;
+  const std::string every = Bad("every=\"0\"", "");
+  EXPECT_NE(every.find("attribute 'every'"), std::string::npos) << every;
+  const std::string huge = Bad("width=\"4000\" antialias=\"4\"", "");
+  EXPECT_NE(huge.find("attribute 'antialias'"), std::string::npos) << huge;
+  const std::string child = Bad("", "<camrea/>");
+  EXPECT_NE(child.find("did you mean <camera>"), std::string::npos) << child;
+  const std::string unknown =
+      LoadError(Experiment("", "", "4,4,1", "<visualization><qt-opengl/></visualization>"));
+  EXPECT_NE(unknown.find("unknown renderer 'qt-opengl'"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("osmesa"), std::string::npos) << unknown;
+}
+
+TEST(RenderingErrors, UnknownEntitiesAreRejectedBeforeTheFirstFrame) {
+  auto sim = LoadXml(Experiment(
+      Robot("r", "0,0,0"), kRedRobots, "4,4,1",
+      Visualization("",
+                    "<camera id=\"c\" follow=\"robot9\" position=\"0,0,1\" "
+                    "look_at=\"1,0,0\"/>\n<mesh entity=\"box9\" file=\"" COLONY_SOURCE_DIR
+                    "/experiments/meshes/pyramid.obj\"/>")));
+  sim->renderers()[0]->set_output_dir(fs::temp_directory_path().string());
+  try {
+    sim->renderers()[0]->AfterTick();
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("<string>:4: <camera id=\"c\"> attribute 'follow': no entity 'robot9'"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("<string>:5: <mesh> attribute 'entity': no entity 'box9'"),
+              std::string::npos)
+        << message;
+  }
+}
+
+// The colony program.
+struct Result {
+  int status;
+  std::string output;
+};
+
+Result Colony(const std::string& args, const std::string& environment = "") {
+  FILE* pipe = popen((environment + " " COLONY_EXE " " + args + " 2>&1").c_str(), "r");
+  std::string output;
+  char buffer[4096];
+  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+TEST_F(Rendering, FramesFromTheCommandLineWithADefaultCamera) {
+  const Result r = Colony("run " COLONY_SOURCE_DIR
+                          "/experiments/diffusion.xml --quiet --set "
+                          "framework.experiment.length=0.2 --out " +
+                              (dir_ / "run").string() + " --frames " + (dir_ / "frames").string(),
+                          "env -u DISPLAY");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* name : {"camera0_000000.png", "camera0_000001.png", "camera0_000002.png"}) {
+    const Png png = ReadPng(dir_ / "frames" / name);
+    EXPECT_EQ(png.width, 1280) << name;
+    EXPECT_EQ(png.height, 720) << name;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "frames" / "camera0_000003.png"));
+}
+
+TEST_F(Rendering, ExampleExperimentWritesFramesIntoTheRunFolder) {
+  const Result r = Colony("run " COLONY_SOURCE_DIR
+                          "/experiments/rendering.xml --quiet --set "
+                          "framework.experiment.length=1 --out " +
+                          (dir_ / "run").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* name : {"overview_000000.png", "overview_000001.png", "chase_000001.png"}) {
+    EXPECT_TRUE(fs::exists(dir_ / "run" / "frames" / name)) << name;
+  }
+}
+
+TEST_F(Rendering, VideoWithoutFfmpegIsRefusedBeforeRunning) {
+  const Result r = Colony("run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --video " +
+                              (dir_ / "v.mp4").string() + " --out " + (dir_ / "run").string(),
+                          "PATH=/nonexistent");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--video needs ffmpeg, which is not installed"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "run")) << "the run should not have started";
+}
+
+TEST_F(Rendering, VideoIsAssembledByFfmpeg) {
+  // A stand-in ffmpeg that records its arguments and creates the output file.
+  fs::create_directories(dir_ / "bin");
+  {
+    std::ofstream script(dir_ / "bin" / "ffmpeg");
+    script << "#!/bin/sh\necho \"$@\" > \"" << (dir_ / "ffmpeg_args").string()
+           << "\"\nfor last; do :; done\ntouch \"$last\"\n";
+  }
+  fs::permissions(dir_ / "bin" / "ffmpeg", fs::perms::owner_all);
+  const Result r = Colony("run " COLONY_SOURCE_DIR
+                          "/experiments/diffusion.xml --quiet --set "
+                          "framework.experiment.length=0.3 --video " +
+                              (dir_ / "v.mp4").string() + " --out " + (dir_ / "run").string(),
+                          "PATH=" + (dir_ / "bin").string() + ":$PATH");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir_ / "v.mp4"));
+  std::ifstream args_file(dir_ / "ffmpeg_args");
+  std::stringstream args;
+  args << args_file.rdbuf();
+  EXPECT_NE(args.str().find("-framerate 10 -i " +
+                            (dir_ / "run" / "frames" / "camera0_%06d.png").string()),
+            std::string::npos)
+      << args.str();
+  EXPECT_TRUE(fs::exists(dir_ / "run" / "frames" / "camera0_000003.png"));
+}
+
+}  // namespace
+}  // namespace colony

@@ -1,0 +1,250 @@
+#include "engines/render_osmesa/scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/simulation.h"
+#include "entities/marxbot/marxbot.h"
+
+namespace colony::render {
+namespace {
+
+using Vec3f = Eigen::Vector3f;
+using Vec2f = Eigen::Vector2f;
+
+// Light from above, a little from the south-west: tops are brightest and
+// sides show which way they face.
+const Vec3f kLight = Vec3f(-0.35f, -0.5f, 1.0f).normalized();
+constexpr float kAmbient = 0.45f, kDiffuse = 0.6f;
+constexpr float kLightBallRadius = 0.03f;  // m
+
+Color Scaled(Color c, float k) {
+  auto channel = [k](uint8_t v) { return static_cast<uint8_t>(std::min(255.0f, v * k + 0.5f)); };
+  return {channel(c.r), channel(c.g), channel(c.b), c.a};
+}
+
+std::vector<Vec2f> MakeCircle(int segments) {
+  std::vector<Vec2f> points;
+  for (int i = 0; i <= segments; ++i) {
+    const double a = 2 * M_PI * i / segments;
+    points.emplace_back(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)));
+  }
+  return points;
+}
+
+// segments + 1 points on the unit circle, the last equal to the first.
+const std::vector<Vec2f>& Circle(int segments) {
+  static const std::vector<Vec2f> k8 = MakeCircle(8), k12 = MakeCircle(12), k24 = MakeCircle(24),
+                                  k32 = MakeCircle(32);
+  return segments <= 8 ? k8 : segments <= 12 ? k12 : segments <= 24 ? k24 : k32;
+}
+
+// Emits triangles given in an entity's frame, placed at its pose.
+class Painter {
+ public:
+  Painter(std::vector<Vertex>& out, const Pose& pose)
+      : out_(out),
+        rotation_(pose.orientation.toRotationMatrix().cast<float>()),
+        translation_(pose.position.cast<float>()) {}
+
+  // A vertex shaded by its normal `n`.
+  void Lit(const Vec3f& p, const Vec3f& n, Color c) {
+    Emit(p, Scaled(c, kAmbient + kDiffuse * std::max(0.0f, (rotation_ * n).dot(kLight))));
+  }
+  // A vertex that shines in its own colour (LEDs, lights).
+  void Emit(const Vec3f& p, Color c) {
+    const Vec3f w = rotation_ * p + translation_;
+    out_.push_back({w.x(), w.y(), w.z(), c.r, c.g, c.b, c.a});
+  }
+  // a, b, c, d counter-clockwise seen from the side `n` points to.
+  void Quad(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& d, const Vec3f& n,
+            Color color, bool glow = false) {
+    for (const Vec3f* v : {&a, &b, &c, &a, &c, &d}) glow ? Emit(*v, color) : Lit(*v, n, color);
+  }
+
+  // Upright cylinder on (x, y) from z0 to z1, with its top.
+  void Cylinder(float x, float y, float z0, float z1, float radius, int segments, Color c,
+                bool glow = false) {
+    const auto& circle = Circle(segments);
+    const int n = static_cast<int>(circle.size()) - 1;
+    const Vec3f up = Vec3f::UnitZ(), top_center(x, y, z1);
+    for (int i = 0; i < n; ++i) {
+      const Vec2f& u = circle[i];
+      const Vec2f& v = circle[i + 1];
+      const Vec3f a(x + radius * u.x(), y + radius * u.y(), z0),
+          b(x + radius * v.x(), y + radius * v.y(), z0);
+      const Vec3f c2(b.x(), b.y(), z1), d(a.x(), a.y(), z1);
+      const Vec3f nu(u.x(), u.y(), 0), nv(v.x(), v.y(), 0);
+      auto vertex = [&](const Vec3f& p, const Vec3f& normal) {
+        glow ? Emit(p, c) : Lit(p, normal, c);
+      };
+      vertex(a, nu);
+      vertex(b, nv);
+      vertex(c2, nv);
+      vertex(a, nu);
+      vertex(c2, nv);
+      vertex(d, nu);
+      vertex(top_center, up);
+      vertex(d, up);
+      vertex(c2, up);
+    }
+  }
+
+  // Box of `size` whose base is centred on `base` (no bottom face).
+  void Box(const Vec3f& base, const Vec3f& size, Color c) {
+    const Vec3f h(size.x() / 2, size.y() / 2, 0);
+    const float z0 = base.z(), z1 = base.z() + size.z();
+    auto corner = [&](float sx, float sy, float z) {
+      return Vec3f(base.x() + sx * h.x(), base.y() + sy * h.y(), z);
+    };
+    Quad(corner(-1, -1, z1), corner(1, -1, z1), corner(1, 1, z1), corner(-1, 1, z1), Vec3f::UnitZ(),
+         c);
+    Quad(corner(1, -1, z0), corner(1, 1, z0), corner(1, 1, z1), corner(1, -1, z1), Vec3f::UnitX(),
+         c);
+    Quad(corner(-1, 1, z0), corner(-1, -1, z0), corner(-1, -1, z1), corner(-1, 1, z1),
+         -Vec3f::UnitX(), c);
+    Quad(corner(1, 1, z0), corner(-1, 1, z0), corner(-1, 1, z1), corner(1, 1, z1), Vec3f::UnitY(),
+         c);
+    Quad(corner(-1, -1, z0), corner(1, -1, z0), corner(1, -1, z1), corner(-1, -1, z1),
+         -Vec3f::UnitY(), c);
+  }
+
+  // A glowing ball.
+  void Ball(const Vec3f& center, float radius, Color c) {
+    constexpr int kStacks = 6;
+    const auto& circle = Circle(12);
+    auto at = [&](int stack, const Vec2f& u) {
+      const float polar = static_cast<float>(M_PI) * stack / kStacks;
+      return Vec3f(center + radius * Vec3f(std::sin(polar) * u.x(), std::sin(polar) * u.y(),
+                                           std::cos(polar)));
+    };
+    for (int s = 0; s < kStacks; ++s) {
+      for (size_t i = 0; i + 1 < circle.size(); ++i) {
+        Quad(at(s, circle[i]), at(s + 1, circle[i]), at(s + 1, circle[i + 1]), at(s, circle[i + 1]),
+             Vec3f::UnitZ(), c, true);
+      }
+    }
+  }
+
+  // A glowing piece of ring between angles a0 and a1 (rad), cut in `steps`:
+  // outer side and top.
+  void RingSector(float a0, float a1, float r_in, float r_out, float z0, float z1, int steps,
+                  Color c) {
+    for (int k = 0; k < steps; ++k) {
+      const float b0 = a0 + (a1 - a0) * k / steps, b1 = a0 + (a1 - a0) * (k + 1) / steps;
+      const Vec2f u(std::cos(b0), std::sin(b0)), v(std::cos(b1), std::sin(b1));
+      const Vec3f n(u.x(), u.y(), 0);
+      Quad(Vec3f(r_out * u.x(), r_out * u.y(), z0), Vec3f(r_out * v.x(), r_out * v.y(), z0),
+           Vec3f(r_out * v.x(), r_out * v.y(), z1), Vec3f(r_out * u.x(), r_out * u.y(), z1), n, c,
+           true);
+      Quad(Vec3f(r_in * u.x(), r_in * u.y(), z1), Vec3f(r_out * u.x(), r_out * u.y(), z1),
+           Vec3f(r_out * v.x(), r_out * v.y(), z1), Vec3f(r_in * v.x(), r_in * v.y(), z1),
+           Vec3f::UnitZ(), c, true);
+    }
+  }
+
+  void Triangles(const Mesh& mesh) {
+    for (size_t i = 0; i < mesh.positions.size(); ++i)
+      Lit(mesh.positions[i], mesh.normals[i], mesh.colors[i]);
+  }
+
+ private:
+  std::vector<Vertex>& out_;
+  Eigen::Matrix3f rotation_;
+  Vec3f translation_;
+};
+
+// One glowing sector per LED of the ring, centred on the LED's angle.
+void AddLedRing(Painter& p, const RingMount& ring, std::span<const Color> leds, Detail detail) {
+  const int steps = detail == Detail::kFine ? 2 : 1;
+  const float half = static_cast<float>(M_PI / ring.count);
+  const float z = static_cast<float>(ring.elevation), r = static_cast<float>(ring.radius);
+  const int lit = std::min(ring.count, static_cast<int>(leds.size()));
+  for (int i = 0; i < lit; ++i) {
+    const float a = static_cast<float>(ring.AngleOf(i));
+    p.RingSector(a - half, a + half, r - 0.015f, r + 0.005f, z - 0.01f, z + 0.01f, steps, leds[i]);
+  }
+}
+
+// The marXbot: treels, body (the docking ring), upper body, LED ring, top
+// plate with the front camera's housing (shows the heading from above) and
+// the beacon (the LED after the ring's) on top. Coarse: no treels, one body.
+void AddMarxbot(Painter& p, Color body, std::span<const Color> leds, const RingMount* ring,
+                Detail detail) {
+  using namespace marxbot;
+  const Color treel{30, 30, 30, 255}, plate{170, 170, 170, 255};
+  const float top = static_cast<float>(kBodyHeight), radius = static_cast<float>(kBodyRadius);
+  const float ring_bottom = ring ? static_cast<float>(ring->elevation) - 0.01f : 0.12f;
+  const bool fine = detail == Detail::kFine;
+  const int segments = fine ? 24 : 12;
+  if (fine) {
+    const float track = static_cast<float>(kWheelBase / 2) - 0.015f;
+    p.Box(Vec3f(0, track, 0), Vec3f(0.11f, 0.03f, 0.045f), treel);
+    p.Box(Vec3f(0, -track, 0), Vec3f(0.11f, 0.03f, 0.045f), treel);
+    p.Cylinder(0, 0, 0, 0.045f, 0.05f, 12, Scaled(body, 0.7f));
+    p.Cylinder(0, 0, 0.045f, 0.095f, radius, segments, body);
+    p.Cylinder(0, 0, 0.095f, ring_bottom, 0.07f, segments, Scaled(body, 1.3f));
+  } else {
+    p.Cylinder(0, 0, 0, ring_bottom, radius, segments, body);
+  }
+  if (ring) AddLedRing(p, *ring, leds, detail);
+  p.Cylinder(0, 0, ring_bottom + 0.02f, top, 0.06f, segments, plate);
+  p.Box(Vec3f(0.045f, 0, top), Vec3f(0.02f, 0.025f, 0.008f), treel);
+  const size_t beacon = ring ? static_cast<size_t>(ring->count) : leds.size();
+  if (beacon < leds.size()) {
+    p.Cylinder(0, 0, top, top + 0.012f, 0.018f, fine ? 12 : 8, leds[beacon], true);
+  }
+}
+
+void AddShape(Painter& p, const Geometry& g, Color c, Detail detail) {
+  const float height = static_cast<float>(g.height());
+  const int segments = detail == Detail::kFine ? 32 : 12;
+  if (g.shape == ShapeKind::kBox) p.Box(Vec3f::Zero(), g.size.cast<float>(), c);
+  if (g.shape == ShapeKind::kCylinder) {
+    p.Cylinder(0, 0, 0, height, static_cast<float>(g.radius), segments, c);
+  }
+}
+
+}  // namespace
+
+void AddLine(std::vector<Vertex>& lines, const Vec3& from, const Vec3& to, Color from_color,
+             Color to_color) {
+  const Vec3f a = from.cast<float>(), b = to.cast<float>();
+  lines.push_back({a.x(), a.y(), a.z(), from_color.r, from_color.g, from_color.b, from_color.a});
+  lines.push_back({b.x(), b.y(), b.z(), to_color.r, to_color.g, to_color.b, to_color.a});
+}
+
+void AddGrid(const Space& space, double spacing, SceneBatch& batch) {
+  const Vec3& lo = space.arena_min();
+  const Vec3& hi = space.arena_max();
+  const Color faint{0, 0, 0, 45};
+  for (double k = std::ceil(lo.x() / spacing); k * spacing <= hi.x(); ++k) {
+    const double x = k * spacing;
+    AddLine(batch.floor_lines, Vec3(x, lo.y(), lo.z()), Vec3(x, hi.y(), lo.z()), faint, faint);
+  }
+  for (double k = std::ceil(lo.y() / spacing); k * spacing <= hi.y(); ++k) {
+    const double y = k * spacing;
+    AddLine(batch.floor_lines, Vec3(lo.x(), y, lo.z()), Vec3(hi.x(), y, lo.z()), faint, faint);
+  }
+}
+
+void SceneBuilder::AddEntity(uint32_t slot, SceneBatch& batch, Detail detail) const {
+  const Space& space = sim_.space();
+  Painter p(batch.triangles, space.pose(slot));
+  const auto leds = space.leds(slot);
+  const RingMount* ring = sim_.MountsOf(space.HandleOf(slot)).Ring("leds");
+  if (const Mesh* mesh = meshes_ ? meshes_->For(space, slot) : nullptr) {
+    p.Triangles(*mesh);
+  } else if (space.TypeLabel(space.type(slot)) == "marxbot") {
+    AddMarxbot(p, space.color(slot), leds, ring, detail);
+    return;
+  } else if (space.light(slot)) {
+    p.Ball(Vec3f::Zero(), kLightBallRadius, leds.empty() ? space.color(slot) : leds[0]);
+    return;
+  } else {
+    AddShape(p, space.geometry(slot), space.color(slot), detail);
+  }
+  if (ring) AddLedRing(p, *ring, leds, detail);
+}
+
+}  // namespace colony::render

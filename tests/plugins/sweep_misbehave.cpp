@@ -1,0 +1,44 @@
+// A test-only controller for the sweep tests: at its first control step it
+// appends a line to params count_file (if given), so a test can count how
+// often runs really ran; then, from tick params at (default 1) on, it does
+// what params mode says: "none" (nothing), "crash" (abort) or "hang" (wait
+// forever).
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include "core/control_interface.h"
+#include "core/registry.h"
+
+namespace {
+
+class SweepMisbehave : public colony::Controller {
+ public:
+  void Init(const colony::Params& params) override {
+    mode_ = params.GetString("mode", "none");
+    at_ = params.GetInt("at", 1, 1);
+    count_file_ = params.GetString("count_file", "");
+  }
+
+  void ControlStep() override {
+    if (++ticks_ == 1 && !count_file_.empty()) std::ofstream(count_file_, std::ios::app) << "ran\n";
+    if (ticks_ < at_) return;
+    if (mode_ == "crash") std::abort();
+    if (mode_ == "hang") {
+      for (;;) pause();
+    }
+  }
+
+ private:
+  std::string mode_, count_file_;
+  int64_t at_ = 1, ticks_ = 0;
+};
+
+COLONY_REGISTER_CONTROLLER(
+    SweepMisbehave, "sweep_misbehave",
+    "test only: crashes or hangs on demand; params mode (none, crash, hang), at (tick), "
+    "count_file (a line appended per run)");
+
+}  // namespace

@@ -1,0 +1,473 @@
+// colony sweep as a user runs it: the grid, resuming after an interruption,
+// crashing and hanging runs, MPI ranks, array-job shards, summaries and bad
+// command lines. Every sweep spawns the real program.
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "tests/test_util.h"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kDiffusion = COLONY_SOURCE_DIR "/experiments/diffusion.xml";
+
+struct Result {
+  int status;
+  std::string output;  // stdout and stderr
+};
+
+// Runs a shell command, collecting its standard output and error.
+Result Shell(const std::string& command) {
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  std::string output;
+  char buffer[4096];
+  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+// Runs the colony program, after `launcher` (e.g. "mpirun -np 2") if given.
+Result Colony(const std::string& args, const std::string& launcher = "") {
+  return Shell(launcher + COLONY_EXE + " " + args);
+}
+
+// Starts `colony sweep ...` in the background (output discarded).
+pid_t StartSweep(const std::vector<std::string>& args) {
+  std::vector<std::string> all{COLONY_EXE, "sweep"};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  pid_t pid = 0;
+  EXPECT_EQ(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  return pid;
+}
+
+std::string Join(const std::vector<std::string>& args) {
+  std::string s;
+  for (const auto& a : args) s += " '" + a + "'";
+  return s;
+}
+
+std::string ReadFile(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+fs::path TempDir(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("colony_sweep_test_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+// results.csv as rows of column -> value.
+using Table = std::vector<std::map<std::string, std::string>>;
+
+std::vector<std::string> SplitCsv(const std::string& line) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      fields.emplace_back();
+    } else {
+      fields.back() += c;
+    }
+  }
+  return fields;
+}
+
+Table ReadTable(const fs::path& csv) {
+  std::istringstream in(ReadFile(csv));
+  std::string line;
+  std::getline(in, line);
+  const auto header = SplitCsv(line);
+  Table table;
+  while (std::getline(in, line)) {
+    const auto fields = SplitCsv(line);
+    EXPECT_EQ(fields.size(), header.size()) << line;
+    auto& row = table.emplace_back();
+    for (size_t i = 0; i < header.size() && i < fields.size(); ++i) row[header[i]] = fields[i];
+  }
+  return table;
+}
+
+size_t CountRowFiles(const fs::path& dir) {
+  size_t n = 0;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir / "runs", ec)) {
+    n += fs::exists(e.path() / "row.csv");
+  }
+  return n;
+}
+
+// A one-robot experiment with the test controller sweep_misbehave, whose
+// params.mode a sweep varies; each run appends a line to `count_file`.
+fs::path MisbehaveExperiment(const fs::path& dir, const fs::path& count_file) {
+  fs::create_directories(dir);
+  const fs::path file = dir / "misbehave.xml";
+  std::ofstream(file)
+      << "<colony><framework><experiment length=\"1\" ticks_per_second=\"10\" random_seed=\"1\"/>"
+         "</framework><controllers><sweep_misbehave id=\"m\" library=\"" COLONY_BINARY_DIR
+         "/tests/plugins/libsweep_misbehave.so\"><params mode=\"none\" count_file=\""
+      << count_file.string()
+      << "\"/></sweep_misbehave></controllers>"
+         "<arena size=\"2,2,1\" center=\"0,0,0.5\"><marxbot id=\"r\"><body position=\"0,0,0\"/>"
+         "<controller config=\"m\"/></marxbot></arena>"
+         "<physics_engines><kinematics2d id=\"k2d\"/></physics_engines></colony>";
+  return file;
+}
+
+size_t Lines(const fs::path& file) {
+  std::istringstream in(ReadFile(file));
+  size_t n = 0;
+  for (std::string line; std::getline(in, line);) ++n;
+  return n;
+}
+
+bool OnPath(const std::string& program) {
+  return std::system(("command -v " + program + " >/dev/null 2>&1").c_str()) == 0;
+}
+
+TEST(Sweep, TwoParametersTimesThreeSeedsMakeSixRunsAndRows) {
+  const fs::path out = TempDir("grid");
+  const Result r =
+      Colony("sweep " + kDiffusion +
+             " --param arena.distribute.entity.quantity=10,20 --param framework.experiment.length=1"
+             " --seeds 1..3 --jobs 2 --out " +
+             out.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("6 runs: 6 ok, 0 failed, 0 timeout"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("elapsed"), std::string::npos)
+      << "no progress line when not on a terminal\n"
+      << r.output;
+  const Table table = ReadTable(out / "results.csv");
+  ASSERT_EQ(table.size(), 6u);
+  const char* quantities[] = {"10", "10", "10", "20", "20", "20"};
+  for (size_t i = 0; i < 6; ++i) {
+    const auto& row = table[i];
+    EXPECT_EQ(row.at("arena.distribute.entity.quantity"), quantities[i]);
+    EXPECT_EQ(row.at("framework.experiment.length"), "1");
+    EXPECT_EQ(row.at("seed"), std::to_string(i % 3 + 1));
+    EXPECT_EQ(row.at("status"), "ok");
+    EXPECT_EQ(row.at("ticks"), "10");
+    EXPECT_EQ(row.at("robots"), quantities[i]);
+    EXPECT_EQ(row.at("metrics.robots"), quantities[i]);
+    EXPECT_GT(std::stod(row.at("mean_displacement")), 0);
+    EXPECT_GT(std::stod(row.at("wall_seconds")), 0);
+    // The run's own folder holds its output contract.
+    const fs::path run = out / "runs" / row.at("run");
+    for (const char* f : {"experiment.xml", "metrics.csv", "summary.json"}) {
+      EXPECT_TRUE(fs::exists(run / f)) << run / f;
+    }
+    EXPECT_NE(ReadFile(run / "summary.json").find("\"seed\": " + row.at("seed")),
+              std::string::npos);
+  }
+  // Seeds differ, so do the runs.
+  EXPECT_NE(table[0].at("final_state_hash"), table[1].at("final_state_hash"));
+  // The same command again has nothing left to do.
+  const Result again =
+      Colony("sweep " + kDiffusion +
+             " --param arena.distribute.entity.quantity=10,20 --param framework.experiment.length=1"
+             " --seeds 1..3 --jobs 2 --out " +
+             out.string());
+  EXPECT_EQ(again.status, 0) << again.output;
+  EXPECT_NE(again.output.find("(0 of them run now)"), std::string::npos) << again.output;
+  fs::remove_all(out);
+}
+
+TEST(Sweep, InterruptedSweepResumesWithoutRerunningFinishedRuns) {
+  const fs::path out = TempDir("resume");
+  const std::vector<std::string> args{kDiffusion, "--param", "framework.experiment.length=100",
+                                      "--seeds",  "1..8",    "--jobs",
+                                      "1",        "--out",   out.string()};
+  // Interrupt with SIGINT after two runs, then kill with SIGKILL after four.
+  std::map<std::string, fs::file_time_type> finished;
+  for (auto [sig, after] : {std::pair{SIGINT, 2}, std::pair{SIGKILL, 4}}) {
+    const pid_t pid = StartSweep(args);
+    for (int i = 0; i < 600 && CountRowFiles(out) < static_cast<size_t>(after); ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    kill(pid, sig);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (sig == SIGINT) {
+      EXPECT_EQ(WEXITSTATUS(status), 128 + SIGINT);
+    }
+    std::this_thread::sleep_for(
+        std::chrono::milliseconds(100));  // any orphaned run would go on writing
+    ASSERT_LT(CountRowFiles(out), 8u)
+        << "the sweep ended before it was interrupted; make the runs longer";
+  }
+  for (const auto& e : fs::directory_iterator(out / "runs")) {
+    if (fs::exists(e.path() / "row.csv")) {
+      finished[e.path().filename()] = fs::last_write_time(e.path() / "summary.json");
+    }
+  }
+  ASSERT_GE(finished.size(), 4u);
+  const Result r = Colony("sweep" + Join(args));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("8 runs: 8 ok"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(" + std::to_string(8 - finished.size()) + " of them run now)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(ReadTable(out / "results.csv").size(), 8u);
+  for (const auto& [run, time] : finished) {
+    EXPECT_EQ(fs::last_write_time(out / "runs" / run / "summary.json"), time)
+        << "run " << run << " ran again";
+  }
+  fs::remove_all(out);
+}
+
+TEST(Sweep, CrashedRunIsRecordedAsFailedOthersSucceed) {
+  const fs::path out = TempDir("crash"), tmp = TempDir("crash_exp");
+  const fs::path exp = MisbehaveExperiment(tmp, tmp / "count");
+  const Result r = Colony("sweep " + exp.string() +
+                          " --param controllers.sweep_misbehave[m].params.mode=none,crash"
+                          " --seeds 1,2 --out " +
+                          out.string());
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("4 runs: 2 ok, 2 failed, 0 timeout"), std::string::npos) << r.output;
+  const Table table = ReadTable(out / "results.csv");
+  ASSERT_EQ(table.size(), 4u);
+  for (const auto& row : table) {
+    const bool crash = row.at("controllers.sweep_misbehave[m].params.mode") == "crash";
+    EXPECT_EQ(row.at("status"), crash ? "failed" : "ok");
+    if (crash) {
+      EXPECT_NE(row.at("detail").find("killed by signal 6"), std::string::npos) << row.at("detail");
+    }
+    EXPECT_EQ(fs::exists(out / "runs" / row.at("run") / "summary.json"), !crash);
+  }
+  // --retry-failed runs the failed ones again, and only them.
+  const Result retry = Colony("sweep " + exp.string() +
+                              " --param controllers.sweep_misbehave[m].params.mode=none,crash"
+                              " --seeds 1,2 --retry-failed --out " +
+                              out.string());
+  EXPECT_EQ(retry.status, 1);
+  EXPECT_NE(retry.output.find("(2 of them run now)"), std::string::npos) << retry.output;
+  EXPECT_EQ(Lines(tmp / "count"), 6u);
+  fs::remove_all(out);
+  fs::remove_all(tmp);
+}
+
+TEST(Sweep, HangingRunIsKilledAtItsTimeout) {
+  const fs::path out = TempDir("hang"), tmp = TempDir("hang_exp");
+  const fs::path exp = MisbehaveExperiment(tmp, tmp / "count");
+  const auto t0 = std::chrono::steady_clock::now();
+  const Result r = Colony("sweep " + exp.string() +
+                          " --param controllers.sweep_misbehave[m].params.mode=none,hang"
+                          " --timeout 1 --out " +
+                          out.string());
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_LT(seconds, 10);
+  const Table table = ReadTable(out / "results.csv");
+  ASSERT_EQ(table.size(), 2u);
+  EXPECT_EQ(table[0].at("status"), "ok");
+  EXPECT_EQ(table[1].at("status"), "timeout");
+  EXPECT_NE(table[1].at("detail").find("timeout of 1 s"), std::string::npos);
+  EXPECT_GE(std::stod(table[1].at("wall_seconds")), 1.0);
+  EXPECT_LT(std::stod(table[1].at("wall_seconds")), 5.0);
+  fs::remove_all(out);
+  fs::remove_all(tmp);
+}
+
+// A run that did not complete still tells how far it got: the last complete
+// row of its metrics.csv.
+TEST(Sweep, TimedOutRunKeepsItsLastMetrics) {
+  const fs::path out = TempDir("partial");
+  const Result r =
+      Colony("sweep " + kDiffusion +
+             " --param framework.experiment.length=100000 --param output.metrics_every=1"
+             " --timeout 0.5 --quiet --out " +
+             out.string());
+  EXPECT_EQ(r.status, 1) << r.output;
+  const Table table = ReadTable(out / "results.csv");
+  ASSERT_EQ(table.size(), 1u);
+  EXPECT_EQ(table[0].at("status"), "timeout");
+  EXPECT_GT(std::stoll(table[0].at("ticks")), 0);
+  EXPECT_FALSE(table[0].at("mean_displacement").empty());
+  EXPECT_EQ(table[0].at("final_state_hash"), "");
+  fs::remove_all(out);
+}
+
+TEST(Sweep, MpiRanksRunEveryRunExactlyOnce) {
+  if (!OnPath("mpirun")) GTEST_SKIP() << "mpirun is not installed";
+  const fs::path out = TempDir("mpi"), tmp = TempDir("mpi_exp");
+  const fs::path exp = MisbehaveExperiment(tmp, tmp / "count");
+  const Result r = Colony("sweep " + exp.string() + " --seeds 1..6 --jobs 1 --out " + out.string(),
+                          "mpirun -np 2 --oversubscribe --allow-run-as-root ");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("6 runs: 6 ok"), std::string::npos) << r.output;
+  EXPECT_EQ(Lines(tmp / "count"), 6u) << "each run ran exactly once";
+  const Table table = ReadTable(out / "results.csv");
+  ASSERT_EQ(table.size(), 6u);
+  for (size_t i = 0; i < 6; ++i) EXPECT_EQ(table[i].at("seed"), std::to_string(i + 1));
+  fs::remove_all(out);
+  fs::remove_all(tmp);
+}
+
+TEST(Sweep, CollectedShardsGiveTheUnshardedTable) {
+  const fs::path whole = TempDir("whole"), shared = TempDir("shared"), one = TempDir("one"),
+                 two = TempDir("two"), merged = TempDir("merged");
+  const std::string grid =
+      " --param arena.distribute.entity.quantity=10,20 --param framework.experiment.length=1"
+      " --seeds 1..3 --quiet --out ";
+  ASSERT_EQ(Colony("sweep " + kDiffusion + grid + whole.string()).status, 0);
+  // Shards in one shared folder, merged there.
+  ASSERT_EQ(Colony("sweep " + kDiffusion + grid + shared.string() + " --shard 1/2").status, 0);
+  const Result early = Colony("sweep --collect " + shared.string());
+  EXPECT_EQ(early.status, 1);
+  EXPECT_NE(early.output.find("3 runs have not finished"), std::string::npos) << early.output;
+  ASSERT_EQ(Colony("sweep " + kDiffusion + grid + shared.string() + " --shard 2/2").status, 0);
+  const Result collect = Colony("sweep --collect " + shared.string());
+  ASSERT_EQ(collect.status, 0) << collect.output;
+  EXPECT_NE(collect.output.find("collected 6 of 6 runs"), std::string::npos) << collect.output;
+  // Shards in folders of their own, merged into a third.
+  ASSERT_EQ(Colony("sweep " + kDiffusion + grid + one.string() + " --shard 1/2").status, 0);
+  ASSERT_EQ(Colony("sweep " + kDiffusion + grid + two.string() + " --shard 2/2").status, 0);
+  ASSERT_EQ(
+      Colony("sweep --collect " + one.string() + " " + two.string() + " --out " + merged.string())
+          .status,
+      0);
+  // The same table, timings aside.
+  auto untimed = [](Table t) {
+    for (auto& row : t) {
+      for (const char* c : {"wall_seconds", "step_seconds", "robot_steps_per_second"}) row.erase(c);
+    }
+    return t;
+  };
+  const Table expected = untimed(ReadTable(whole / "results.csv"));
+  ASSERT_EQ(expected.size(), 6u);
+  EXPECT_EQ(untimed(ReadTable(shared / "results.csv")), expected);
+  EXPECT_EQ(untimed(ReadTable(merged / "results.csv")), expected);
+  EXPECT_EQ(ReadFile(whole / "results.csv").substr(0, 200),
+            ReadFile(merged / "results.csv").substr(0, 200));
+  for (const auto& d : {whole, shared, one, two, merged}) fs::remove_all(d);
+}
+
+TEST(Sweep, ScalabilitySweepFileRunsAndSummarizes) {
+  const fs::path out = TempDir("scalability");
+  const Result r =
+      Colony("sweep " COLONY_SOURCE_DIR "/experiments/sweeps/diffusion-scalability.xml --out " +
+             out.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Table table = ReadTable(out / "results.csv");
+  ASSERT_EQ(table.size(), 12u);
+  const Result s = Colony("sweep --summarize " + out.string());
+  ASSERT_EQ(s.status, 0) << s.output;
+  EXPECT_NE(s.output.find("arena.distribute.entity.quantity=200"), std::string::npos) << s.output;
+  EXPECT_NE(s.output.find("mean_displacement"), std::string::npos) << s.output;
+  // summary.csv: the robots metric over 3 seeds of each swarm size.
+  const Table summary = ReadTable(out / "summary.csv");
+  size_t found = 0;
+  for (const auto& row : summary) {
+    if (row.at("metric") != "robots") continue;
+    ++found;
+    EXPECT_EQ(row.at("count"), "3");
+    EXPECT_EQ(row.at("mean"), row.at("arena.distribute.entity.quantity"));
+    EXPECT_EQ(row.at("median"), row.at("arena.distribute.entity.quantity"));
+    EXPECT_EQ(row.at("std_dev"), "0");
+  }
+  EXPECT_EQ(found, 4u);
+  // A plot with gnuplot, or a clear word that it is missing.
+  const Result plot =
+      Colony("sweep --summarize " + out.string() +
+             " --plot robot_steps_per_second:arena.distribute.entity.quantity --quiet");
+  if (OnPath("gnuplot")) {
+    EXPECT_EQ(plot.status, 0) << plot.output;
+    EXPECT_TRUE(
+        fs::exists(out / "plot-robot_steps_per_second-arena.distribute.entity.quantity.png"));
+  } else {
+    EXPECT_EQ(plot.status, 1);
+    EXPECT_NE(plot.output.find("gnuplot, which is not installed"), std::string::npos)
+        << plot.output;
+  }
+  fs::remove_all(out);
+}
+
+TEST(Sweep, ProgressOnATerminal) {
+  if (!OnPath("script")) GTEST_SKIP() << "script (util-linux) is not installed";
+  const fs::path out = TempDir("progress");
+  const std::string command = std::string(COLONY_EXE) + " sweep " + kDiffusion +
+                              " --param framework.experiment.length=1 --seeds 1..2 --out " +
+                              out.string();
+  const Result r = Shell("script -qec \"" + command + "\" /dev/null");
+  EXPECT_NE(r.output.find("2/2 done (0 failed, 0 timeout), 0 running"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("elapsed"), std::string::npos) << r.output;
+  fs::remove_all(out);
+}
+
+TEST(Sweep, AnotherSweepInTheSameFolderIsRefused) {
+  const fs::path out = TempDir("other");
+  const std::string base = "sweep " + kDiffusion +
+                           " --param framework.experiment.length=1 --quiet --out " + out.string();
+  ASSERT_EQ(Colony(base + " --seeds 1").status, 0);
+  const Result r = Colony(base + " --seeds 1..2");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("holds another sweep (it sweeps seeds 1, not 1..2)"), std::string::npos)
+      << r.output;
+  fs::remove_all(out);
+}
+
+TEST(Sweep, BadInputIsRejectedBeforeAnythingRuns) {
+  const fs::path out = TempDir("bad");
+  struct Case {
+    std::string args, expected;
+  } cases[] = {
+      {"--param framework.experimnt.length=1,2", "did you mean 'experiment'"},
+      {"--param framework.experiment.length=",
+       "--param framework.experiment.length: empty value list"},
+      {"--param framework.experiment.length=1,,2", "empty value in '1,,2'"},
+      {"--param framework.experiment.length=1,1", "value '1' is given twice"},
+      {"--param framework.experiment.length=1,-3", "attribute 'length': '-3' is out of range"},
+      {"--param length", "expected PATH=V1,V2,..."},
+      {"--seeds 5..1", "range '5..1' ends before it starts"},
+      {"--seeds one", "--seeds 'one': 'one' is not accepted"},
+      {"--seeds 1,1", "seed 1 is given twice"},
+      {"--jobs 0", "--jobs: '0' is not accepted"},
+      {"--shard 3/2", "expected I/N with 1 <= I <= N"},
+      {"--shard 1", "expected I/N"},
+      {"--timeout -1", "--timeout: '-1' is not accepted; expected seconds > 0"},
+      {"--frobnicate", "unknown option '--frobnicate'"},
+  };
+  for (const auto& c : cases) {
+    const Result r = Colony("sweep " + kDiffusion + " " + c.args + " --out " + out.string());
+    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(out)) << c.args << ": something was written";
+  }
+  EXPECT_EQ(Colony("sweep").status, 2);
+  EXPECT_NE(Colony("sweep /no/such.xml").output.find("no such file"), std::string::npos);
+  EXPECT_NE(Colony("sweep --summarize /no/such/dir").output.find("has no results.csv"),
+            std::string::npos);
+  EXPECT_NE(Colony("sweep --collect /no/such/dir").output.find("not a sweep folder"),
+            std::string::npos);
+}
+
+}  // namespace
