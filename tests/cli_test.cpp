@@ -28,18 +28,9 @@ Result Colony(const std::string& args) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
-std::string ReadFile(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using colony::testing::ReadFile;
 
-fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("colony_cli_test_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  return dir;
-}
+fs::path TempDir(const std::string& name) { return colony::testing::FreshTempDir("colony_cli_test", name); }
 
 TEST(Cli, DemoShortenedWritesTheOutputContract) {
   const fs::path out = TempDir("demo");

@@ -68,19 +68,9 @@ std::string Join(const std::vector<std::string>& args) {
   return s;
 }
 
-std::string ReadFile(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using colony::testing::ReadFile;
 
-fs::path TempDir(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("colony_sweep_test_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  return dir;
-}
+fs::path TempDir(const std::string& name) { return colony::testing::FreshTempDir("colony_sweep_test", name); }
 
 // results.csv as rows of column -> value.
 using Table = std::vector<std::map<std::string, std::string>>;

@@ -3,7 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +45,22 @@ inline std::string LoadError(const std::string& xml, std::vector<std::string> ov
     return e.what();
   }
   return "";
+}
+
+// The whole content of a file ("" if unreadable).
+inline std::string ReadFile(const std::filesystem::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// An empty scratch folder name, unique to this test process (not created).
+inline std::filesystem::path FreshTempDir(const std::string& prefix, const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   (prefix + "_" + name + "_" + std::to_string(getpid()));
+  std::filesystem::remove_all(dir);
+  return dir;
 }
 
 }  // namespace colony::testing

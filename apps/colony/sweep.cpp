@@ -383,16 +383,16 @@ int RunSweep(const std::vector<std::string>& args) {
   // What is left to run of this process's share.
   const std::vector<size_t> share = ShareOf(grid, o.shard, mpi);
   std::vector<std::optional<Row>> rows = ReadRows(dir, grid);
-  std::vector<size_t> todo;
+  std::vector<size_t> pending;
   for (size_t i : share) {
-    if (!rows[i] || (o.retry_failed && RowStatus(*rows[i]) != "ok")) todo.push_back(i);
+    if (!rows[i] || (o.retry_failed && RowStatus(*rows[i]) != "ok")) pending.push_back(i);
   }
 
   // Only a process running the whole grid keeps results.csv up to date as it goes.
   const bool whole = o.shard.count == 1 && mpi.size == 1;
   ResultsWriter results(dir, rows);
   const RunnerTotals t =
-      RunAll(grid, todo, share.size() - todo.size(), MakeRunnerOptions(o, grid, mpi, dir),
+      RunAll(grid, pending, share.size() - pending.size(), MakeRunnerOptions(o, grid, mpi, dir),
              [&](size_t i, const Row& row) {
                rows[i] = row;
                if (whole) results.Changed();
@@ -403,7 +403,7 @@ int RunSweep(const std::vector<std::string>& args) {
     std::fprintf(stderr,
                  "colony sweep: interrupted; %zu of %s have finished; run the same command again "
                  "to finish\n",
-                 share.size() - todo.size() + run_now, Runs(share.size()).c_str());
+                 share.size() - pending.size() + run_now, Runs(share.size()).c_str());
     return 128 + t.signal;
   }
   if (mpi.size == 1) return Report(o, grid, rows, dir, run_now);

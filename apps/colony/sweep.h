@@ -143,11 +143,11 @@ struct RunnerTotals {
   bool interrupted = false;
   int signal = 0;  // the one that interrupted
 };
-// Runs `todo` (indices into the grid), `options.jobs` at a time, calling
+// Runs `pending` (indices into the grid), `options.jobs` at a time, calling
 // `finished` with each run's row as it ends. `already_done` only counts in
 // the progress line. SIGINT/SIGTERM/SIGHUP kill the running runs and return
 // with interrupted set.
-RunnerTotals RunAll(const Grid& grid, const std::vector<size_t>& todo, size_t already_done,
+RunnerTotals RunAll(const Grid& grid, const std::vector<size_t>& pending, size_t already_done,
                     const RunnerOptions& options,
                     const std::function<void(size_t, const Row&)>& finished);
 

@@ -196,15 +196,15 @@ int WaitForSignal(const sigset_t& set, std::chrono::milliseconds limit) {
 
 }  // namespace
 
-RunnerTotals RunAll(const Grid& grid, const std::vector<size_t>& todo, size_t already_done,
+RunnerTotals RunAll(const Grid& grid, const std::vector<size_t>& pending, size_t already_done,
                     const RunnerOptions& options,
                     const std::function<void(size_t, const Row&)>& finished) {
   BlockedSignals signals;
   RunnerTotals totals;
-  Progress progress(options.progress, todo.size() + already_done, already_done);
+  Progress progress(options.progress, pending.size() + already_done, already_done);
   std::vector<Running> running;
   size_t next = 0;
-  while (next < todo.size() || !running.empty()) {
+  while (next < pending.size() || !running.empty()) {
     // Reap the runs that ended and record them.
     for (size_t i = 0; i < running.size();) {
       int status = 0;
@@ -223,8 +223,8 @@ RunnerTotals RunAll(const Grid& grid, const std::vector<size_t>& todo, size_t al
     }
     if (totals.interrupted) break;
     // Start runs up to the number of jobs.
-    while (running.size() < static_cast<size_t>(options.jobs) && next < todo.size()) {
-      const RunSpec run = RunAt(grid, todo[next++]);
+    while (running.size() < static_cast<size_t>(options.jobs) && next < pending.size()) {
+      const RunSpec run = RunAt(grid, pending[next++]);
       const std::string dir = RunDir(options.dir, run);
       fs::remove_all(dir);
       fs::create_directories(dir);
@@ -247,7 +247,7 @@ RunnerTotals RunAll(const Grid& grid, const std::vector<size_t>& todo, size_t al
       }
     }
     progress.Draw(totals, running.size());
-    if (running.empty() && next >= todo.size()) break;
+    if (running.empty() && next >= pending.size()) break;
     const int sig = WaitForSignal(signals.set(), wait);
     if (sig == SIGINT || sig == SIGTERM || sig == SIGHUP) {
       totals.interrupted = true;
