@@ -221,6 +221,32 @@ std::array<double, 3> ConfigNode::RequireTriple(std::string_view attribute, cons
   return GetTriple(attribute, {0, 0, 0}, range);
 }
 
+std::array<double, 2> ConfigNode::GetPair(std::string_view attribute, std::array<double, 2> fallback,
+                                          const Range& range) const {
+  const char* raw = Raw(attribute);
+  if (!raw) return fallback;
+  const auto parts = SplitList(raw);
+  std::array<double, 2> out{};
+  bool ok = parts.size() == 2;
+  for (size_t i = 0; ok && i < 2; ++i) ok = ParseFiniteDouble(parts[i], out[i]);
+  if (!ok) {
+    Error(attribute, raw, "'" + std::string(raw) + "' is not two finite numbers; accepted: \"x,y\"");
+    return fallback;
+  }
+  for (double v : out) {
+    if (!CheckRange(*this, attribute, raw, v, range)) return fallback;
+  }
+  return out;
+}
+
+std::array<double, 2> ConfigNode::RequirePair(std::string_view attribute, const Range& range) const {
+  if (!Has(attribute)) {
+    Error(attribute, "", "required attribute is missing; accepted: \"x,y\"");
+    return {0, 0};
+  }
+  return GetPair(attribute, {0, 0}, range);
+}
+
 std::string ConfigNode::GetChoice(std::string_view attribute, const std::vector<std::string>& choices,
                                   std::string_view fallback) const {
   const char* raw = Raw(attribute);

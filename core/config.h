@@ -70,6 +70,10 @@ class ConfigNode {
   std::array<double, 3> GetTriple(std::string_view attribute, std::array<double, 3> fallback,
                                   const Range& range = {}) const;
   std::array<double, 3> RequireTriple(std::string_view attribute, const Range& range = {}) const;
+  // Two comma-separated finite numbers ("x,y").
+  std::array<double, 2> GetPair(std::string_view attribute, std::array<double, 2> fallback,
+                                const Range& range = {}) const;
+  std::array<double, 2> RequirePair(std::string_view attribute, const Range& range = {}) const;
   std::string GetChoice(std::string_view attribute, const std::vector<std::string>& choices,
                         std::string_view fallback) const;
   Color GetColor(std::string_view attribute, Color fallback) const;

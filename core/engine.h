@@ -42,6 +42,11 @@ class PhysicsEngine {
   // Whether it simulates grippers (GripperState in the space): holding
   // what a robot grips.
   virtual bool SimulatesGripping() const { return false; }
+  // Whether it simulates the construction manipulator (ManipulatorState):
+  // its joints and its magnet.
+  virtual bool SimulatesManipulator() const { return false; }
+  // Whether it simulates the third dimension (gravity, falling, stacking).
+  virtual bool Is3D() const { return false; }
   // Advances the owned entities by dt seconds.
   virtual void Step(double dt) = 0;
 

@@ -1,5 +1,6 @@
 // The arena floor: a flat colour or a PNG image stretched over the arena,
-// read by ground sensors (grey level) and drawn by renderers.
+// read by ground sensors (grey level) and drawn by renderers; it may have
+// ditches (rectangular trenches) that 3D engines cut out of the ground.
 #pragma once
 
 #include <string>
@@ -9,8 +10,26 @@
 
 namespace colony {
 
+// An axis-aligned rectangular trench in the floor, [min_x, max_x] x
+// [min_y, max_y], `depth` deep below the floor's surface (z = arena bottom).
+struct Ditch {
+  double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+  double depth = 0;
+  bool Contains(double x, double y) const { return x > min_x && x < max_x && y > min_y && y < max_y; }
+};
+
 class Floor {
  public:
+  void AddDitch(const Ditch& d) { ditches_.push_back(d); }
+  const std::vector<Ditch>& ditches() const { return ditches_; }
+  // The ditch under (x, y), or nullptr where there is ground.
+  const Ditch* DitchAt(double x, double y) const {
+    for (const Ditch& d : ditches_)
+      if (d.Contains(x, y)) return &d;
+    return nullptr;
+  }
+  bool HasGroundAt(double x, double y) const { return DitchAt(x, y) == nullptr; }
+
   void SetColor(Color c) { color_ = c; }
   // Loads a PNG covering the rectangle [min_x, max_x] x [min_y, max_y].
   // Returns an error message, or an empty string on success.
@@ -36,6 +55,7 @@ class Floor {
   int width_ = 0, height_ = 0;
   double min_x_ = 0, min_y_ = 0, max_x_ = 1, max_y_ = 1;
   std::vector<Color> pixels_;
+  std::vector<Ditch> ditches_;
 };
 
 }  // namespace colony

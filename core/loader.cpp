@@ -312,6 +312,7 @@ class ExperimentLoader {
   void ReadFramework(const ConfigNode& root);
   void ReadControllers(const ConfigNode& root);
   void ReadEngines(const ConfigNode& root);
+  void ReadMedia(const ConfigNode& root);
   void ReadOptionalSections(const ConfigNode& root);
   void ReadArena(const ConfigNode& root);
   void ReadDistribute(const ConfigNode& node);
@@ -585,24 +586,89 @@ void ExperimentLoader::ReadBoundaries(const ConfigNode& engine_node, PhysicsEngi
   engine.SetRegion(std::move(region));
 }
 
+void ExperimentLoader::ReadMedia(const ConfigNode& root) {
+  const ConfigNode node = root.Child("media");
+  if (!node.valid()) return;
+  node.CheckAttributes({});
+  std::map<std::string, int> ids;
+  for (const ConfigNode& child : node.Children()) {
+    const auto* entry = FindPlugin<Medium>(child, "medium", child.name(), "default");
+    if (!entry) continue;
+    auto names = entry->info.AttributeNames();
+    names.push_back("id");
+    child.CheckAttributes(names);
+    const std::string id = child.GetString("id", child.name());
+    if (const auto [it, fresh] = ids.emplace(id, child.line()); !fresh) {
+      child.Error("id", id, "duplicate medium id '" + id + "' (first at line " + std::to_string(it->second) +
+                                "); give each medium its own id");
+      continue;
+    }
+    auto medium = entry->create();
+    medium->Bind(&sim_, id, entry->info.label);
+    medium->Configure(child);
+    sim_.media_.push_back(std::move(medium));
+  }
+}
+
 void ExperimentLoader::ReadOptionalSections(const ConfigNode& root) {
-  for (const char* section : {"media", "visualization"}) {
-    const ConfigNode node = root.Child(section);
-    if (!node.valid()) continue;
-    node.CheckAttributes({});
-    for (const ConfigNode& child : node.Children()) {
-      if (std::string(section) == "media") {
-        FindPlugin<Medium>(child, "medium", child.name(), "default");
-      } else if (const auto* entry =
-                     FindPlugin<Renderer>(child, "renderer", child.name(), "default")) {
-        child.CheckAttributes(entry->info.AttributeNames());
-        auto renderer = entry->create();
-        renderer->Bind(&sim_);
-        renderer->Configure(child);
-        sim_.renderers_.push_back(std::move(renderer));
-      }
+  const ConfigNode node = root.Child("visualization");
+  if (!node.valid()) return;
+  node.CheckAttributes({});
+  for (const ConfigNode& child : node.Children()) {
+    if (const auto* entry = FindPlugin<Renderer>(child, "renderer", child.name(), "default")) {
+      child.CheckAttributes(entry->info.AttributeNames());
+      auto renderer = entry->create();
+      renderer->Bind(&sim_);
+      renderer->Configure(child);
+      sim_.renderers_.push_back(std::move(renderer));
     }
   }
+}
+
+Medium* Simulation::MediumFor(const ConfigNode& device, const std::string& label) {
+  auto& registry = Registry<Medium>::Get();
+  if (device.Has("medium")) {
+    const std::string id = device.GetString("medium", "");
+    std::vector<std::string> same_kind;
+    for (auto& m : media_) {
+      if (m->id() == id) {
+        if (m->label() == label) return m.get();
+        device.Error("medium", id, "medium '" + id + "' is a <" + m->label() + ">, not a <" + label + ">");
+        return nullptr;
+      }
+      if (m->label() == label) same_kind.push_back(m->id());
+    }
+    device.Error("medium", id, "no medium with id '" + id + "' in <media>; accepted: " +
+                                   (same_kind.empty() ? "the id of a <" + label + "> declared in <media>"
+                                                      : Join(same_kind)));
+    return nullptr;
+  }
+  Medium* found = nullptr;
+  int count = 0;
+  for (auto& m : media_) {
+    if (m->label() == label) {
+      found = m.get();
+      ++count;
+    }
+  }
+  if (count == 1) return found;
+  if (count > 1) {
+    device.ElementError("<media> declares several <" + label + "> media; say which with medium=\"id\"");
+    return nullptr;
+  }
+  // None declared: one with default settings, shared by every device that names none.
+  const auto* entry = registry.Find(label, "default");
+  if (!entry) {
+    device.ElementError("needs a <" + label + "> medium, and none is available in this build");
+    return nullptr;
+  }
+  auto* element = document_->NewElement(label.c_str());
+  element->SetAttribute("id", label.c_str());
+  auto medium = entry->create();
+  medium->Bind(this, label, label);
+  medium->Configure(ConfigNode(element, context_.get()));
+  media_.push_back(std::move(medium));
+  return media_.back().get();
 }
 
 bool ExperimentLoader::ReadEntityDesc(const ConfigNode& node, const EntityType& type, EntityDesc& desc,
@@ -935,7 +1001,28 @@ void ExperimentLoader::ReadArena(const ConfigNode& root) {
 
   if (const ConfigNode floor = arena.Child("floor"); floor.valid()) {
     floor.CheckAttributes({"id", "color", "source", "path"});
-    floor.CheckChildren({});
+    floor.CheckChildren({"ditch"});
+    for (const ConfigNode& d : floor.Children()) {
+      d.CheckAttributes({"center", "size", "depth"});
+      d.CheckChildren({});
+      const size_t before = diag().size();
+      const auto dc = d.RequirePair("center");
+      const auto ds = d.RequirePair("size", Range::Positive());
+      const double depth = d.GetDouble("depth", 0.06, Range::Positive());
+      if (diag().size() != before) continue;
+      Ditch ditch{dc[0] - ds[0] / 2, dc[1] - ds[1] / 2, dc[0] + ds[0] / 2, dc[1] + ds[1] / 2, depth};
+      if (ditch.min_x < lo.x() || ditch.max_x > hi.x() || ditch.min_y < lo.y() || ditch.max_y > hi.y()) {
+        d.Error("center", d.GetString("center", ""), "the ditch reaches outside the arena; accepted: a centre and size "
+                                                     "keeping it within the arena's floor");
+        continue;
+      }
+      if (depth >= s.z()) {
+        d.Error("depth", d.GetString("depth", ""), "the ditch is deeper than the arena is high; accepted: a depth > 0 and < " +
+                                                     FormatNumber(s.z()));
+        continue;
+      }
+      sim_.space_.floor().AddDitch(ditch);
+    }
     const std::string source = floor.GetChoice("source", {"color", "image"}, floor.Has("path") ? "image" : "color");
     sim_.space_.floor().SetColor(floor.GetColor("color", Color::White()));
     if (source == "image") {
@@ -1069,6 +1156,8 @@ void ExperimentLoader::Load() {
   ReadFramework(root);
   ReadOutput(root);
   diag().ThrowIfAny();
+  // Media first: sensors and actuators look theirs up when configured.
+  ReadMedia(root);
   ReadControllers(root);
   ReadEngines(root);
   ReadOptionalSections(root);

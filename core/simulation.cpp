@@ -241,7 +241,8 @@ void Simulation::Step() {
     Migrate();
   }
   space_.UpdateIndex();
-  // 3. media: none in this build yet
+  // 3. media
+  for (auto& m : media_) m->Update();
   // 4. loop functions pre-step
   for (auto& lf : loop_functions_) lf->PreStep();
   if (space_.index_dirty()) space_.UpdateIndex();

@@ -18,6 +18,7 @@
 #include "core/engine.h"
 #include "core/entity_type.h"
 #include "core/loop_functions.h"
+#include "core/medium.h"
 #include "core/renderer.h"
 #include "core/space.h"
 #include "core/thread_pool.h"
@@ -105,6 +106,14 @@ class Simulation {
   PhysicsEngine* EngineOf(EntityHandle entity) const;
   const std::vector<std::unique_ptr<PhysicsEngine>>& engines() const { return engines_; }
 
+  // The medium of kind `label` (e.g. "range_and_bearing") a device element
+  // uses: the one its medium="id" attribute names, else the only one of that
+  // kind in <media>, else (none declared) one with default settings, shared
+  // by every device that names none. On a problem records a diagnostic on
+  // `device` and returns nullptr. For sensor and actuator Configure.
+  Medium* MediumFor(const ConfigNode& device, const std::string& label);
+  const std::vector<std::unique_ptr<Medium>>& media() const { return media_; }
+
   // Renderers from <visualization>, in file order; the host calls them
   // between ticks (see core/renderer.h).
   const std::vector<std::unique_ptr<Renderer>>& renderers() const { return renderers_; }
@@ -175,6 +184,7 @@ class Simulation {
   size_t robot_count_ = 0;
   std::vector<std::unique_ptr<LoopFunctions>> loop_functions_;
   std::vector<std::unique_ptr<Renderer>> renderers_;
+  std::vector<std::unique_ptr<Medium>> media_;
   Metrics metrics_;
   RandomStream rng_;
   std::vector<std::pair<const EntityType*, uint16_t>> entity_types_;  // by space type id

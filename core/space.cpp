@@ -46,6 +46,7 @@ EntityHandle Space::Add(EntityInit init) {
     drive_slot_.push_back(-1);
     light_slot_.push_back(-1);
     gripper_slot_.push_back(-1);
+    manipulator_slot_.push_back(-1);
     ids_.emplace_back();
   }
   flags_[slot] = static_cast<uint8_t>(init.flags | kAlive);
@@ -69,6 +70,11 @@ EntityHandle Space::Add(EntityInit init) {
   if (init.has_gripper) {
     gripper_slot_[slot] = static_cast<int32_t>(grippers_.size());
     grippers_.emplace_back();
+  }
+  manipulator_slot_[slot] = -1;
+  if (init.has_manipulator) {
+    manipulator_slot_[slot] = static_cast<int32_t>(manipulators_.size());
+    manipulators_.push_back(init.manipulator);
   }
   light_slot_[slot] = -1;
   if (init.light_intensity > 0) {
@@ -101,6 +107,7 @@ void Space::Remove(EntityHandle h) {
   drive_slot_[slot] = -1;
   light_slot_[slot] = -1;
   gripper_slot_[slot] = -1;
+  manipulator_slot_[slot] = -1;
   ids_[slot].clear();
   free_slots_.push_back(slot);
   --alive_count_;
@@ -236,6 +243,11 @@ void Space::Hash(StateHasher& h) const {
     }
     if (const GripperState* g = gripper(i)) {
       const double v[3] = {g->turret, g->want_grip ? 1.0 : 0.0, static_cast<double>(g->held)};
+      h.Add(v, sizeof v);
+    }
+    if (const ManipulatorState* m = manipulator(i)) {
+      const double v[5] = {m->elevation, m->rotation, m->magnet, m->want_magnet ? 1.0 : 0.0,
+                           static_cast<double>(m->held)};
       h.Add(v, sizeof v);
     }
   }

@@ -71,6 +71,9 @@ struct DriveState {
   double wheel_radius = 0;                   // m
   double max_speed = 0;                      // m/s
   double travelled_left = 0, travelled_right = 0;  // distance each wheel moved last tick (m)
+  // False when the robot has no power (e.g. its battery is empty): the
+  // steering actuator then commands both wheels to stop.
+  bool powered = true;
 };
 
 // The marXbot's docking turret and gripper: written by the gripper actuator,
@@ -81,6 +84,29 @@ struct GripperState {
   double reach = 0.02;       // how far beyond the body the jaws close on something (m)
   bool want_grip = false;    // the controller asks to hold what is in front of the jaws
   uint32_t held = 0xFFFFFFFFu;  // slot of the held entity, or none
+  bool holding() const { return held != 0xFFFFFFFFu; }
+};
+
+// The marXbot's construction manipulator (seeds 000 and 001): a head that
+// moves up and down (elevation) and turns about the vertical axis between its
+// IR side and its magnet side, carrying a switchable magnet that holds light
+// ferromagnetic objects. Commands are written by the manipulator actuator;
+// the state below them by engines that simulate it (dynamics3d).
+struct ManipulatorState {
+  // Commands.
+  double target_elevation = 0;  // height of the magnet's centre above the floor under the robot (m)
+  double target_rotation = 0;   // head rotation: 0 = magnet side facing the robot's front (rad, ccw)
+  bool want_magnet = false;     // engage (true) or disengage the magnet
+  // Limits (set by the entity; the actuator may override from XML).
+  double min_elevation = 0.03, max_elevation = 0.20;  // m
+  double elevation_speed = 0.05;                      // m/s
+  double rotation_speed = 1.0;                        // rad/s
+  double switch_time = 1.0;                           // s for the magnet to switch over
+  // State, written by the engine.
+  double elevation = 0.03;   // m
+  double rotation = 0;       // rad
+  double magnet = 0;         // 0 disengaged .. 1 engaged; it holds only when fully engaged
+  uint32_t held = 0xFFFFFFFFu;  // slot of the object the magnet holds, or none
   bool holding() const { return held != 0xFFFFFFFFu; }
 };
 
@@ -105,6 +131,8 @@ class Space {
     double light_intensity = 0;  // > 0 makes it a light
     double mass = 0;             // kg, for dynamics engines (0: immovable)
     bool has_gripper = false;
+    bool has_manipulator = false;
+    ManipulatorState manipulator;  // its limits, when has_manipulator
   };
 
   // Entity types are registered once; their id is a small integer.
@@ -157,6 +185,13 @@ class Space {
   GripperState* gripper(uint32_t i) { return gripper_slot_[i] < 0 ? nullptr : &grippers_[gripper_slot_[i]]; }
   const GripperState* gripper(uint32_t i) const {
     return gripper_slot_[i] < 0 ? nullptr : &grippers_[gripper_slot_[i]];
+  }
+  // Construction manipulator of a robot, or nullptr.
+  ManipulatorState* manipulator(uint32_t i) {
+    return manipulator_slot_[i] < 0 ? nullptr : &manipulators_[manipulator_slot_[i]];
+  }
+  const ManipulatorState* manipulator(uint32_t i) const {
+    return manipulator_slot_[i] < 0 ? nullptr : &manipulators_[manipulator_slot_[i]];
   }
   const LightSource* light(uint32_t i) const {
     return light_slot_[i] < 0 ? nullptr : &lights_[light_slot_[i]];
@@ -225,11 +260,13 @@ class Space {
   std::vector<int32_t> drive_slot_;
   std::vector<int32_t> light_slot_;
   std::vector<int32_t> gripper_slot_;
+  std::vector<int32_t> manipulator_slot_;
   // Components, packed.
   std::vector<Color> leds_;
   std::vector<DriveState> drives_;
   std::vector<LightSource> lights_;
   std::vector<GripperState> grippers_;
+  std::vector<ManipulatorState> manipulators_;
   // Cold data.
   std::vector<std::string> ids_;
   std::unordered_map<std::string, uint32_t> by_id_;

@@ -30,6 +30,12 @@ class MarxbotType : public EntityType {
     init.drive.wheel_radius = kWheelRadius;
     init.drive.max_speed = kMaxSpeed;
     desc.init.mass = kMass;
+    // The construction manipulator (seed 000, 2.2.2; seed 004, 3.3).
+    if (node.GetBool("manipulator", false)) {
+      init.has_manipulator = true;
+      init.geometry.size.z() = kHeightWithManipulator;
+      init.mass = kMass + kManipulatorMass;
+    }
   }
   bool is_robot() const override { return true; }
   const DeviceMounts& mounts() const override { return mounts_; }
@@ -42,7 +48,9 @@ COLONY_REGISTER_ENTITY(
     MarxbotType, "marxbot",
     "the marXbot (foot-bot): 17 cm diameter, differential treels up to 0.3 m/s, 24 proximity "
     "sensors, 8 ground sensors, 12 RGB LEDs + beacon; takes <body> and <controller config>",
-    (std::vector<AttributeDoc>{{"color", kColorAccepted, "60,60,60", "body colour"}}),
+    (std::vector<AttributeDoc>{{"color", kColorAccepted, "60,60,60", "body colour"},
+                               {"manipulator", "true, false", "false",
+                                "carries the magnetic construction manipulator (29 cm tall); needs dynamics3d"}}),
     (std::vector<std::string>{"foot-bot"}));
 
 }  // namespace

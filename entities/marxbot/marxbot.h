@@ -9,9 +9,11 @@ inline constexpr double kWheelBase = 0.14;        // m, between the treels
 inline constexpr double kWheelRadius = 0.029;     // m
 inline constexpr double kMaxSpeed = 0.30;         // m/s
 inline constexpr double kMass = 1.8;              // kg (for dynamics engines)
+inline constexpr double kHeightWithManipulator = 0.29;  // m (seed 004, 3.3)
+inline constexpr double kManipulatorMass = 0.4;   // kg (no figure in the sources; our choice)
 
 inline constexpr int kProximityCount = 24;        // 15 degrees apart
-inline constexpr double kProximityElevation = 0.06;  // m above the floor
+inline constexpr double kProximityElevation = 0.055;  // m above the floor ("about 6 cm": below a 6 cm cube's top)
 inline constexpr double kProximityRange = 0.10;      // m from the body's surface
 inline constexpr int kGroundCount = 8;            // 45 degrees apart, under the base
 inline constexpr double kGroundRadius = 0.065;    // m from the axis

@@ -62,7 +62,7 @@ TEST(Marxbot, DeviceFigures) {
   const RingMount* proximity = mounts.Ring("proximity");
   ASSERT_NE(proximity, nullptr);
   EXPECT_EQ(proximity->count, 24);
-  EXPECT_DOUBLE_EQ(proximity->elevation, 0.06);
+  EXPECT_DOUBLE_EQ(proximity->elevation, 0.055);
   EXPECT_DOUBLE_EQ(proximity->radius, 0.085);  // on the body's surface
   EXPECT_DOUBLE_EQ(proximity->range, 0.10);
   EXPECT_NEAR(proximity->AngleOf(1) - proximity->AngleOf(0), DegToRad(15), 1e-12);
@@ -172,7 +172,7 @@ TEST(Marxbot, EveryMistakeIsReportedAtOnce) {
 TEST(Marxbot, RegisteredAttributesMatchTheReadme) {
   const auto* entry = Registry<EntityType>::Get().Find("marxbot");
   ASSERT_NE(entry, nullptr);
-  EXPECT_EQ(entry->info.AttributeNames(), std::vector<std::string>{"color"});
+  EXPECT_EQ(entry->info.AttributeNames(), std::vector<std::string>({"color", "manipulator"}));
   EXPECT_EQ(entry->info.aliases, std::vector<std::string>{"foot-bot"});
   EXPECT_EQ(Registry<EntityType>::Get().Find("foot-bot"), entry);
 }

@@ -1,4 +1,4 @@
-// Passive things: box, cylinder, light.
+// Passive things: box, cylinder, construction cube, light.
 #include "core/entity_type.h"
 
 namespace colony {
@@ -61,6 +61,34 @@ std::vector<AttributeDoc> CylinderAttributes() {
 
 COLONY_REGISTER_ENTITY(CylinderType, "cylinder", "an upright cylinder: obstacle, movable or not; takes <body>",
                        CylinderAttributes(), {});
+
+// The construction cube (seeds 000 and 001): 6 cm of light polystyrene with
+// ferromagnetic plates low on its sides (the manipulator's magnet holds it),
+// magnets underneath and plates on top, so that a cube dropped on another
+// self-aligns and stays on it. Always movable. Engines that simulate magnets
+// (dynamics3d) know the type by its label "cube".
+class CubeType : public EntityType {
+ public:
+  void Build(const ConfigNode& node, EntityDesc& desc) const override {
+    const double side = node.GetDouble("size", 0.06, Range::Positive());
+    desc.init.geometry.shape = ShapeKind::kBox;
+    desc.init.geometry.size = Vec3(side, side, side);
+    desc.init.geometry.radius = desc.init.geometry.BoundingRadius();
+    desc.init.flags = kSolid | kMovable;
+    desc.init.mass = node.GetDouble("mass", 0.04, Range::Positive());
+    desc.init.color = node.GetColor("color", Color{240, 240, 240, 255});
+  }
+};
+
+COLONY_REGISTER_ENTITY(CubeType, "cube",
+                       "a construction cube: 6 cm, light, held by the manipulator's magnet, self-aligning "
+                       "when stacked; always movable; takes <body>",
+                       (std::vector<AttributeDoc>{
+                           {"size", "a number > 0 (m)", "0.06", "side"},
+                           {"mass", "a number > 0 (kg)", "0.04", "mass (polystyrene with steel plates and magnets)"},
+                           {"color", kColorAccepted, "240,240,240", "colour; the tops are the brightest surfaces"},
+                       }),
+                       (std::vector<std::string>{"construction_cube"}));
 
 class LightType : public EntityType {
  public:
