@@ -456,6 +456,43 @@ TEST(config_errors, AGoodExperimentStillLoads) {
   EXPECT_EQ(sim->length_ticks(), 100u);
 }
 
+// --- Floors with ditches ------------------------------------------------------
+
+TEST(config_errors, DitchOutsideTheArena) {
+  const std::string floor = "\n<floor><ditch center=\"1.9,0\" size=\"0.5,1\" depth=\"0.06\"/></floor>";
+  EXPECT_TRUE(Mentions(LoadError(Experiment(floor)),
+                       {"<string>:2:", "<ditch>", "center", "reaches outside the arena"}));
+}
+
+TEST(config_errors, DitchWithBadSizeAndDepth) {
+  const std::string floor =
+      "\n<floor><ditch center=\"0,0\" size=\"-0.1,1\"/>\n<ditch center=\"0,0\" size=\"0.1,1\" depth=\"0\"/>"
+      "\n<ditch size=\"0.1,1\"/>\n<ditch center=\"0,0,0\" size=\"0.1,1\"/></floor>";
+  const std::string message = LoadError(Experiment(floor));
+  EXPECT_TRUE(Mentions(message, {"<string>:2:", "size", "'-0.1,1'"}));
+  EXPECT_TRUE(Mentions(message, {"<string>:3:", "depth", "'0'"}));
+  EXPECT_TRUE(Mentions(message, {"<string>:4:", "center", "required attribute is missing"}));
+  EXPECT_TRUE(Mentions(message, {"<string>:5:", "center", "is not two finite numbers", "\"x,y\""}));
+}
+
+TEST(config_errors, DitchesAreReadIntoTheFloor) {
+  const auto sim = LoadXml(Experiment("<floor><ditch center=\"0.5,0\" size=\"0.06,2\" depth=\"0.07\"/></floor>"));
+  const Floor& floor = sim->space().floor();
+  ASSERT_EQ(floor.ditches().size(), 1u);
+  EXPECT_DOUBLE_EQ(floor.ditches()[0].min_x, 0.47);
+  EXPECT_DOUBLE_EQ(floor.ditches()[0].max_y, 1.0);
+  EXPECT_DOUBLE_EQ(floor.ditches()[0].depth, 0.07);
+  EXPECT_FALSE(floor.HasGroundAt(0.5, 0.3));
+  EXPECT_TRUE(floor.HasGroundAt(0.4, 0.3));
+}
+
+// --- Media ------------------------------------------------------------------
+
+TEST(config_errors, UnknownMedium) {
+  const std::string extra = "<media>\n<radio id=\"r\"/></media>";
+  EXPECT_TRUE(Mentions(LoadError(Experiment("", "", "4,4,1", extra)), {"<string>:2:", "unknown medium 'radio'"}));
+}
+
 }  // namespace
 }  // namespace colony::testing
 
