@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -521,6 +522,14 @@ void ExperimentLoader::ReadEngines(const ConfigNode& root) {
     engine->Bind(&sim_, id, entry->info.label);
     engine->Configure(node);
     ReadBoundaries(node, *engine);
+    // 3D engines (gravity, ditches, stacking) and 2D ones (bodies on the floor) do not mix.
+    if (!sim_.engines_.empty() && engine->Is3D() != sim_.engines_.front()->Is3D()) {
+      const PhysicsEngine& first = *sim_.engines_.front();
+      const auto dims = [](const PhysicsEngine& e) { return e.Is3D() ? std::string("3D") : std::string("2D"); };
+      node.ElementError(engine->label() + " '" + id + "' is a " + dims(*engine) + " engine and cannot share an experiment with " +
+                        dims(first) + " engines (" + first.label() + " '" + first.id() + "', line " +
+                        std::to_string(ids_line_.front()) + "); use only 3D engines or only 2D ones");
+    }
     // Two engines of one kind must not simulate the same place.
     for (size_t k = 0; k < sim_.engines_.size(); ++k) {
       const PhysicsEngine& other = *sim_.engines_[k];
@@ -729,8 +738,16 @@ std::string ExperimentLoader::CheckPlacement(const EntityDesc& desc) {
   const Vec3& p = init.pose.position;
   const Vec3& lo = sim_.space_.arena_min();
   const Vec3& hi = sim_.space_.arena_max();
+  // Down to a ditch's bottom when the footprint lies within the ditch.
+  double bottom = lo.z();
+  for (const Ditch& d : sim_.space_.floor().ditches()) {
+    if (p.x() - half.x() >= d.min_x - 1e-9 && p.x() + half.x() <= d.max_x + 1e-9 && p.y() - half.y() >= d.min_y - 1e-9 &&
+        p.y() + half.y() <= d.max_y + 1e-9) {
+      bottom = std::min(bottom, lo.z() - d.depth);
+    }
+  }
   if (p.x() - half.x() < lo.x() - 1e-9 || p.x() + half.x() > hi.x() + 1e-9 || p.y() - half.y() < lo.y() - 1e-9 ||
-      p.y() + half.y() > hi.y() + 1e-9 || p.z() < lo.z() - 1e-9 || p.z() + init.geometry.height() > hi.z() + 1e-9) {
+      p.y() + half.y() > hi.y() + 1e-9 || p.z() < bottom - 1e-9 || p.z() + init.geometry.height() > hi.z() + 1e-9) {
     std::ostringstream s;
     s << "is outside the arena: its footprint spans x [" << p.x() - half.x() << ", " << p.x() + half.x() << "], y ["
       << p.y() - half.y() << ", " << p.y() + half.y() << "], z [" << p.z() << ", " << p.z() + init.geometry.height()
@@ -1073,12 +1090,18 @@ void ExperimentLoader::ReadArena(const ConfigNode& root) {
       for (const auto& side : sides) {
         auto* e = sim_.document_->NewElement("box");
         e->SetAttribute("id", side.id);
-        const std::string sz = std::to_string(side.sx) + "," + std::to_string(side.sy) + "," + std::to_string(h);
+        // Every digit: rounded figures could put a wall a hair outside the arena.
+        auto exact = [](double v) {
+          char buffer[32];
+          std::snprintf(buffer, sizeof buffer, "%.17g", v);
+          return std::string(buffer);
+        };
+        const std::string sz = exact(side.sx) + "," + exact(side.sy) + "," + exact(h);
         e->SetAttribute("size", sz.c_str());
         e->SetAttribute("movable", "false");
         e->SetAttribute("color", color.c_str());
         auto* body = e->InsertNewChildElement("body");
-        const std::string pos = std::to_string(side.x) + "," + std::to_string(side.y) + "," + std::to_string(lo.z());
+        const std::string pos = exact(side.x) + "," + exact(side.y) + "," + exact(lo.z());
         body->SetAttribute("position", pos.c_str());
         // Keep the walls' line for messages: parse it as if written there.
         ConfigContext& context = ctx();

@@ -285,6 +285,11 @@ TEST(config_errors, RobotInsideTheWalls) {
                        {"<string>:3:", "<marxbot id=\"m\">", "overlaps 'wall_north' (line 2)"}));
 }
 
+TEST(config_errors, WallsFitAnArenaWhoseSizeHasManyDecimals) {
+  std::string xml = Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>", "", "70.9106791,70.9106791,1");
+  EXPECT_EQ(LoadError(xml), "");
+}
+
 TEST(config_errors, FixedObjectsMayTouch) {
   // Walls meet at corners and boxes may lean on them: only movable things must be clear.
   const std::string arena =
@@ -484,6 +489,16 @@ TEST(config_errors, DitchesAreReadIntoTheFloor) {
   EXPECT_DOUBLE_EQ(floor.ditches()[0].depth, 0.07);
   EXPECT_FALSE(floor.HasGroundAt(0.5, 0.3));
   EXPECT_TRUE(floor.HasGroundAt(0.4, 0.3));
+}
+
+TEST(config_errors, EntitiesMayStartDownInADitchButNotBelowIt) {
+  const std::string floor = "<floor><ditch center=\"0.5,0\" size=\"0.07,2\" depth=\"0.06\"/></floor>";
+  const std::string in = "<box id=\"b\" size=\"0.06,0.06,0.06\" movable=\"true\"><body position=\"0.5,0,-0.06\"/></box>";
+  EXPECT_EQ(LoadError(Experiment(floor + in)), "");
+  const std::string below = "<box id=\"b\" size=\"0.06,0.06,0.06\" movable=\"true\"><body position=\"0.5,0,-0.07\"/></box>";
+  EXPECT_TRUE(Mentions(LoadError(Experiment(floor + below)), {"entity 'b' is outside the arena"}));
+  const std::string astride = "<box id=\"b\" size=\"0.06,0.06,0.06\" movable=\"true\"><body position=\"0.45,0,-0.06\"/></box>";
+  EXPECT_TRUE(Mentions(LoadError(Experiment(floor + astride)), {"entity 'b' is outside the arena"}));
 }
 
 // --- Media ------------------------------------------------------------------

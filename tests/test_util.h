@@ -10,6 +10,7 @@
 #include <memory>
 #include <sstream>
 #include <optional>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,18 @@ inline std::filesystem::path FreshTempDir(const std::string& prefix, const std::
                    (prefix + "_" + name + "_" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   return dir;
+}
+
+// The attribute names in the first column of the attribute tables of
+// `folder`/README.md (rows starting "| `name` |"), in order.
+inline std::vector<std::string> ReadmeAttributes(const std::string& folder) {
+  const std::string text = ReadFile(std::string(COLONY_SOURCE_DIR) + "/" + folder + "/README.md");
+  std::vector<std::string> names;
+  const std::regex row(R"(\n\| `([a-z_]+)` \|)");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), row); it != std::sregex_iterator(); ++it) {
+    names.push_back((*it)[1]);
+  }
+  return names;
 }
 
 }  // namespace colony::testing

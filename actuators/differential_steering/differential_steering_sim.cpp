@@ -1,6 +1,7 @@
 // Simulated differential steering: wheel speed commands are clamped to
 // +-max_speed, and the wheels reach them no faster than max_acceleration;
-// the engine then moves the robot with the resulting wheel speeds.
+// the engine then moves the robot with the resulting wheel speeds. A robot
+// without power (DriveState::powered false) is commanded to stop.
 #include <algorithm>
 #include <cmath>
 
@@ -38,8 +39,9 @@ class SteeringSystem : public ActuatorSystem {
       const double limit = max_speed_ > 0 ? std::min(max_speed_, d.max_speed) : d.max_speed;
       // NaN commands stop the wheels rather than poisoning the state.
       auto clamp = [&](double v) { return std::isfinite(v) ? std::clamp(v, -limit, limit) : 0.0; };
-      d.target_left = clamp(s.target_left());
-      d.target_right = clamp(s.target_right());
+      // Without power (e.g. an empty battery) the wheels are commanded to stop.
+      d.target_left = d.powered ? clamp(s.target_left()) : 0.0;
+      d.target_right = d.powered ? clamp(s.target_right()) : 0.0;
       d.left += std::clamp(d.target_left - d.left, -max_delta, max_delta);
       d.right += std::clamp(d.target_right - d.right, -max_delta, max_delta);
     }

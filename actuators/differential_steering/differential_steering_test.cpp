@@ -169,6 +169,46 @@ TEST(DifferentialSteering, NonFiniteCommandsStopTheWheels) {
   EXPECT_EQ(d->right, 0.0);
 }
 
+TEST(DifferentialSteering, UnpoweredRobotBrakesToAStopAndStays) {
+  // Default max_acceleration 3 m/s^2: 0.3 m/s of change per tick.
+  auto sim = LoadXml(Experiment(Robot("r", "-1,0,0"), Controllers("left=\"0.2\" right=\"0.2\"")));
+  for (int t = 0; t < 3; ++t) sim->Step();
+  DriveState* d = sim->space().drive(sim->space().Find("r").index);
+  ASSERT_NE(d, nullptr);
+  EXPECT_DOUBLE_EQ(d->left, 0.2);
+  d->powered = false;  // what an empty battery does
+  sim->Step();
+  EXPECT_EQ(d->target_left, 0.0);
+  EXPECT_EQ(d->target_right, 0.0);
+  EXPECT_EQ(d->left, 0.0);
+  EXPECT_EQ(d->right, 0.0);
+  // The controller keeps asking; the robot does not move.
+  const Vec3 stopped = PoseOf(*sim, "r").position;
+  for (int t = 0; t < 10; ++t) sim->Step();
+  EXPECT_EQ(PoseOf(*sim, "r").position, stopped);
+  EXPECT_EQ(Probe(*sim, "r").wheels->target_left(), 0.2);
+  // Power back: it drives again.
+  d->powered = true;
+  sim->Step();
+  EXPECT_NEAR(PoseOf(*sim, "r").position.x(), stopped.x() + 0.02, 1e-9);
+}
+
+TEST(DifferentialSteering, UnpoweredRobotBrakesAtTheAccelerationLimit) {
+  auto sim = LoadXml(Experiment(Robot("r", "-1,0,0"), Controllers("left=\"0.3\" right=\"0.3\"", "max_acceleration=\"1\"")));
+  for (int t = 0; t < 5; ++t) sim->Step();
+  DriveState* d = sim->space().drive(sim->space().Find("r").index);
+  EXPECT_NEAR(d->left, 0.3, 1e-12);
+  d->powered = false;
+  sim->Step();
+  EXPECT_NEAR(d->left, 0.2, 1e-12);  // 1 m/s^2 x 0.1 s
+  EXPECT_NEAR(d->right, 0.2, 1e-12);
+  sim->Step();
+  sim->Step();
+  EXPECT_NEAR(d->left, 0.0, 1e-12);
+  sim->Step();
+  EXPECT_NEAR(d->left, 0.0, 1e-12);
+}
+
 TEST(DifferentialSteering, BadAttributesAreReported) {
   const std::string speed = LoadError(Experiment(Robot("r", "0,0,0"), Controllers("", "max_speed=\"0\"")));
   EXPECT_NE(speed.find("attribute 'max_speed'"), std::string::npos) << speed;

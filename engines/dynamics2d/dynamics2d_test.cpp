@@ -75,7 +75,7 @@ TEST(Dynamics2d, RobotDrivesAtItsCommandedSpeedOnAFreeFloor) {
 }
 
 TEST(Dynamics2d, BadParametersAreRejectedWithElementAndLine) {
-  for (const std::string& bad : {"substeps=\"0\"", "friction=\"-1\"", "robot_max_force=\"nan\"", "iterations=\"x\""}) {
+  for (const char* bad : {"substeps=\"0\"", "friction=\"-1\"", "robot_max_force=\"nan\"", "iterations=\"x\""}) {
     const std::string message = testing::LoadError(testing::Experiment(
         "", "", "4,4,1", "", "<dynamics2d id=\"d2d\" " + bad + "/>"));
     const std::string attribute = bad.substr(0, bad.find('='));

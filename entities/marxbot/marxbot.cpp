@@ -13,6 +13,9 @@ class MarxbotType : public EntityType {
                                   kProximityRange};
     mounts_.rings["ground"] = {kGroundCount, kGroundRadius, 0.0, 0.0, 0.0};
     mounts_.rings["leds"] = {kRingLedCount, kLedRingRadius, kLedRingElevation, 0.0, 0.0};
+    mounts_.rings["light"] = {kLightCount, kBodyRadius, kLightElevation, M_PI / kLightCount, 0.0};
+    mounts_.rings["distance_scanner"] = {kScannerSensorCount, kScannerRadius, kScannerElevation, 0.0,
+                                         kScannerRange};
   }
 
   void Build(const ConfigNode& node, EntityDesc& desc) const override {

@@ -17,6 +17,15 @@ inline constexpr double kProximityElevation = 0.055;  // m above the floor ("abo
 inline constexpr double kProximityRange = 0.10;      // m from the body's surface
 inline constexpr int kGroundCount = 8;            // 45 degrees apart, under the base
 inline constexpr double kGroundRadius = 0.065;    // m from the axis
+// Light sensors: a ring like the proximity ring (the layout ARGoS gives the foot-bot).
+inline constexpr int kLightCount = 24;            // 15 degrees apart from 7.5 degrees
+inline constexpr double kLightElevation = 0.06;   // m above the floor
+// Rotating distance scanner (seed 000, 2.2.3): 4 Sharp sensors on a rotor of
+// 130 mm diameter, looking out through its rim, scan plane 9 cm above the floor.
+inline constexpr int kScannerSensorCount = 4;     // short, long, short, long, 90 degrees apart
+inline constexpr double kScannerRadius = 0.065;   // m from the axis to the sensors' faces
+inline constexpr double kScannerElevation = 0.09; // m above the floor
+inline constexpr double kScannerRange = 1.5;      // m, the long-range sensors' reach
 inline constexpr int kRingLedCount = 12;          // RGB LEDs on the docking ring
 inline constexpr int kLedCount = kRingLedCount + 1;  // plus the beacon (last)
 inline constexpr double kLedRingRadius = 0.075;   // m

@@ -77,6 +77,16 @@ TEST(Marxbot, DeviceFigures) {
   EXPECT_EQ(leds->count, 12);  // on the docking ring
   // 12 ring LEDs + the beacon in the space.
   EXPECT_EQ(sim->space().leds(sim->space().Find("r").index).size(), 13u);
+  const RingMount* light = mounts.Ring("light");
+  ASSERT_NE(light, nullptr);
+  EXPECT_EQ(light->count, 24);
+  EXPECT_NEAR(light->AngleOf(0), DegToRad(7.5), 1e-12);
+  EXPECT_DOUBLE_EQ(light->elevation, 0.06);
+  const RingMount* scanner = mounts.Ring("distance_scanner");
+  ASSERT_NE(scanner, nullptr);
+  EXPECT_EQ(scanner->count, 4);  // short, long, short, long on the rotor
+  EXPECT_DOUBLE_EQ(scanner->elevation, 0.09);  // scan plane 9 cm above the floor
+  EXPECT_DOUBLE_EQ(scanner->range, 1.5);
   EXPECT_EQ(mounts.Ring("camera"), nullptr);
 }
 

@@ -1,4 +1,4 @@
-// Passive things: box, cylinder, construction cube, light.
+// Passive things: box, cylinder, construction cube, light, landmark.
 #include "core/entity_type.h"
 
 namespace colony {
@@ -112,7 +112,28 @@ COLONY_REGISTER_ENTITY(LightType, "light", "a point light that light sensors see
                            {"orientation", "\"yaw,pitch,roll\" (degrees)", "0,0,0", "direction (unused by point lights)"},
                            {"color", kColorAccepted, "yellow", "colour of the light"},
                            {"intensity", "a number > 0", "1", "relative intensity"},
-                           {"medium", "a medium id", "", "accepted for ARGoS files; unused"},
+                           {"medium", "a medium id", "none", "accepted for ARGoS files; unused"},
+                       }),
+                       {});
+
+// A landmark (seed 004): a coloured post the omnidirectional camera sees as
+// one blob at its centre (media/led). Not solid: robots drive through it and
+// ray sensors ignore it; put a cylinder at the same place for an obstacle.
+class LandmarkType : public EntityType {
+ public:
+  void Build(const ConfigNode& node, EntityDesc& desc) const override {
+    desc.init.geometry.size = Vec3(0, 0, node.GetDouble("height", 0.2, Range::Positive()));
+    desc.init.flags = 0;
+    desc.init.color = node.GetColor("color", Color{0, 255, 0, 255});
+  }
+};
+
+COLONY_REGISTER_ENTITY(LandmarkType, "landmark",
+                       "a coloured post the omnidirectional camera sees (one blob at its centre); not solid; "
+                       "takes <body>",
+                       (std::vector<AttributeDoc>{
+                           {"height", "a number > 0 (m)", "0.2", "the blob is at half this height"},
+                           {"color", kColorAccepted, "green", "colour of the blob (black: not seen)"},
                        }),
                        {});
 

@@ -220,6 +220,7 @@ std::vector<std::string> AttributesOf(const std::string& label) {
 TEST(Objects, RegisteredAttributesMatchTheReadme) {
   EXPECT_EQ(AttributesOf("box"), (std::vector<std::string>{"size", "movable", "mass", "color"}));
   EXPECT_EQ(AttributesOf("cylinder"), (std::vector<std::string>{"radius", "height", "movable", "mass", "color"}));
+  EXPECT_EQ(AttributesOf("cube"), (std::vector<std::string>{"size", "mass", "color"}));
   EXPECT_EQ(AttributesOf("light"),
             (std::vector<std::string>{"position", "orientation", "color", "intensity", "medium"}));
 }

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <unistd.h>
 #include <filesystem>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -240,6 +241,91 @@ TEST(Ground, DroppedReadingsReadZero) {
   auto sim = LoadXml(Experiment(Robot("r", "0,0,0"), Controllers("drop_probability=\"1\"")));
   sim->Step();
   for (const auto& x : Readings(*sim, "r")) EXPECT_EQ(x.value, 0.0f);
+}
+
+// --- Ditches: a sensor over a hole reads 0 ("no ground"), unless something
+// solid fills the hole up to within 1 cm of the sensor's height.
+
+// A 3 x 3 cm ditch under the front sensor only (0.065 m ahead of the axis).
+const std::string kFrontDitch = "<floor color=\"gray50\"><ditch center=\"0.065,0\" size=\"0.03,0.03\" depth=\"0.06\"/></floor>";
+constexpr float kGray50 = 127 / 255.0f;
+
+void MoveTo(Simulation& sim, const std::string& id, double x, double y, double z) {
+  sim.space().pose(sim.space().Find(id).index).position = Vec3(x, y, z);
+}
+
+TEST(Ground, SensorOverADitchReadsNoGround) {
+  auto sim = LoadXml(Experiment(kFrontDitch + Robot("r", "0,0,0"), Controllers()));
+  sim->Step();
+  const auto& r = Readings(*sim, "r");
+  ASSERT_EQ(r.size(), 8u);
+  EXPECT_EQ(r[0].value, 0.0f) << "the front sensor is over the ditch";
+  for (int i = 1; i < 8; ++i) EXPECT_NEAR(r[i].value, kGray50, 1e-6) << "sensor " << i;
+  // Moved 6.5 cm past the ditch and facing +y: the ditch is on its left
+  // (90 degrees), under sensor 2.
+  MoveTo(*sim, "r", 0.13, 0, 0);
+  sim->space().pose(sim->space().Find("r").index).orientation = FromEulerZYX(M_PI / 2, 0, 0);
+  sim->Step();
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR(r[i].value, i == 2 ? 0.0f : kGray50, 1e-6) << "sensor " << i;
+}
+
+TEST(Ground, SomethingFillingTheDitchUpToTheFloorIsRead) {
+  // A red box, put into the ditch under the front sensor after loading (the
+  // loader does not place things below the floor).
+  auto sim = LoadXml(Experiment(kFrontDitch + Robot("r", "0,0,0") +
+                                    "<box id=\"b\" size=\"0.03,0.03,0.06\" movable=\"true\" color=\"255,0,0\">"
+                                    "<body position=\"1,1,0\"/></box>",
+                                Controllers()));
+  const auto& r = Readings(*sim, "r");
+  auto front_with_box_top_at = [&](double top) {
+    MoveTo(*sim, "b", 0.065, 0, top - 0.06);
+    sim->Step();
+    return r[0].value;
+  };
+  EXPECT_NEAR(front_with_box_top_at(0.0), 0.299, 1e-3) << "flush with the floor: the box's grey";
+  EXPECT_NEAR(front_with_box_top_at(-0.008), 0.299, 1e-3) << "8 mm down still reflects";
+  EXPECT_EQ(front_with_box_top_at(-0.012), 0.0f) << "12 mm down: no ground";
+  EXPECT_EQ(front_with_box_top_at(-0.05), 0.0f);
+  for (int i = 1; i < 8; ++i) EXPECT_NEAR(r[i].value, kGray50, 1e-6) << "the others read the floor";
+}
+
+TEST(Ground, RobotDownInADitchReadsItsBottom) {
+  // A wide ditch; the robot first over it at floor level, then down in it.
+  auto sim = LoadXml(Experiment(
+      "<floor color=\"gray50\"><ditch center=\"1,1\" size=\"0.5,0.5\" depth=\"0.08\"/></floor>" +
+          Robot("r", "0,0,0"),
+      Controllers()));
+  sim->Step();
+  for (const auto& x : Readings(*sim, "r")) EXPECT_NEAR(x.value, kGray50, 1e-6) << "a ditch elsewhere changes nothing";
+  MoveTo(*sim, "r", 1, 1, 0);
+  sim->Step();
+  for (const auto& x : Readings(*sim, "r")) EXPECT_EQ(x.value, 0.0f) << "over the ditch";
+  MoveTo(*sim, "r", 1, 1, -0.08);
+  sim->Step();
+  for (const auto& x : Readings(*sim, "r")) EXPECT_NEAR(x.value, kGray50, 1e-6) << "on the ditch's bottom";
+}
+
+TEST(Ground, NoGroundWithNoiseStaysInRange) {
+  auto sim = LoadXml(Experiment(kFrontDitch + Robot("r", "0,0,0"), Controllers("noise=\"uniform\" noise_range=\"-0.1,0\"")));
+  for (int t = 0; t < 5; ++t) {
+    sim->Step();
+    EXPECT_EQ(Readings(*sim, "r")[0].value, 0.0f) << "0 minus noise is clamped at 0";
+  }
+}
+
+TEST(Ground, RegisteredAttributesMatchTheReadme) {
+  const auto* entry = Registry<SensorSystem>::Get().Find("ground");
+  ASSERT_NE(entry, nullptr);
+  const std::vector<std::string> registered = entry->info.AttributeNames();
+  EXPECT_EQ(registered, (std::vector<std::string>{"noise", "noise_std_dev", "noise_range", "drop_probability"}));
+  // The README's table also lists `implementation`, which every device takes.
+  const std::string text = testing::ReadFile(COLONY_SOURCE_DIR "/sensors/ground/README.md");
+  std::vector<std::string> documented;
+  const std::regex row(R"(\n\| `([a-z_]+)` \|)");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), row); it != std::sregex_iterator(); ++it) {
+    if ((*it)[1] != "implementation") documented.push_back((*it)[1]);
+  }
+  EXPECT_EQ(documented, registered);
 }
 
 }  // namespace

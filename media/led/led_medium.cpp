@@ -1,0 +1,154 @@
+#include "media/led/led_medium.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/entity_type.h"
+#include "core/simulation.h"
+
+namespace colony {
+namespace {
+
+// Slots are processed in fixed blocks (not per thread), so the index is the
+// same whatever the thread count.
+constexpr uint32_t kBlock = 512;
+
+bool Lit(const Color& c) { return (c.r | c.g | c.b) != 0; }
+
+}  // namespace
+
+void LedMedium::Configure(const ConfigNode& node) {
+  cell_size_ = node.GetDouble("cell_size", 0, Range::Positive());
+}
+
+const LedMedium::TypeLeds& LedMedium::LedsOfType(uint32_t slot) {
+  const uint16_t type = sim().space().type(slot);
+  if (types_.size() <= type) types_.resize(type + 1);
+  TypeLeds& t = types_[type];
+  if (!t.known) {
+    t.known = true;
+    if (const RingMount* ring = sim().MountsOf(sim().space().HandleOf(slot)).Ring("leds")) {
+      for (int i = 0; i < ring->count; ++i) {
+        const double a = ring->AngleOf(i);
+        t.ring.emplace_back(ring->radius * std::cos(a), ring->radius * std::sin(a), ring->elevation);
+      }
+    }
+  }
+  return t;
+}
+
+void LedMedium::ConfigureGrid(const Space& space, size_t count) {
+  double cell = cell_size_ > 0 ? cell_size_ : (reach_ > 0 ? reach_ : 1.0);
+  const Vec3& lo = space.arena_min();
+  const Vec3& hi = space.arena_max();
+  const double wx = std::max(hi.x() - lo.x(), 1e-9), wy = std::max(hi.y() - lo.y(), 1e-9);
+  // Keep the table small compared with the number of points.
+  const double limit = std::max<double>(4096, 4.0 * count);
+  while (std::ceil(wx / cell) * std::ceil(wy / cell) > limit) cell *= 1.25;
+  const int nx = static_cast<int>(std::ceil(wx / cell)), ny = static_cast<int>(std::ceil(wy / cell));
+  if (nx == nx_ && ny == ny_ && cell == cell_ && min_x_ == lo.x() && min_y_ == lo.y()) return;
+  cell_ = cell;
+  inv_cell_ = 1.0 / cell;
+  min_x_ = lo.x();
+  min_y_ = lo.y();
+  nx_ = nx;
+  ny_ = ny;
+  cell_start_.assign(static_cast<size_t>(nx_) * ny_ + 1, 0);
+}
+
+void LedMedium::Update() {
+  const Space& space = sim().space();
+  const uint32_t slots = space.slots();
+  // Per-type LED layouts, read once per type (not thread-safe: done here).
+  for (uint32_t s = 0; s < slots; ++s) {
+    if (!space.alive(s) || space.leds(s).empty()) continue;
+    const uint16_t type = space.type(s);
+    if (type >= types_.size() || !types_[type].known) LedsOfType(s);
+  }
+  if (landmark_type_ < 0) {
+    for (size_t t = 0; t < space.type_count(); ++t) {
+      if (space.TypeLabel(static_cast<uint16_t>(t)) == "landmark") landmark_type_ = static_cast<int>(t);
+    }
+  }
+
+  // Pass 1: how many lit points each block of slots holds.
+  const size_t blocks = (slots + kBlock - 1) / kBlock;
+  block_counts_.assign(blocks + 1, 0);
+  auto for_each_point = [&](uint32_t s, auto&& emit) {
+    if (!space.alive(s)) return;
+    if (static_cast<int>(space.type(s)) == landmark_type_) {
+      if (Lit(space.color(s))) emit(-1, space.color(s));
+      return;
+    }
+    const auto leds = space.leds(s);
+    for (size_t i = 0; i < leds.size(); ++i) {
+      if (Lit(leds[i])) emit(static_cast<int>(i), leds[i]);
+    }
+  };
+  sim().pool().ParallelFor(blocks, 1, [&](size_t b0, size_t b1) {
+    for (size_t b = b0; b < b1; ++b) {
+      uint32_t n = 0;
+      const uint32_t end = std::min<uint32_t>(slots, static_cast<uint32_t>((b + 1) * kBlock));
+      for (uint32_t s = static_cast<uint32_t>(b * kBlock); s < end; ++s) {
+        for_each_point(s, [&](int, Color) { ++n; });
+      }
+      block_counts_[b + 1] = n;
+    }
+  });
+  for (size_t b = 1; b <= blocks; ++b) block_counts_[b] += block_counts_[b - 1];
+  const size_t count = block_counts_[blocks];
+  ConfigureGrid(space, count);
+
+  // Pass 2: the points in the world frame, and their cells.
+  unsorted_.resize(count);
+  cell_of_.resize(count);
+  sim().pool().ParallelFor(blocks, 1, [&](size_t b0, size_t b1) {
+    for (size_t b = b0; b < b1; ++b) {
+      uint32_t at = block_counts_[b];
+      const uint32_t end = std::min<uint32_t>(slots, static_cast<uint32_t>((b + 1) * kBlock));
+      for (uint32_t s = static_cast<uint32_t>(b * kBlock); s < end; ++s) {
+        const Pose& pose = space.pose(s);
+        const double height = space.geometry(s).height();
+        const std::vector<Vec3>* ring = nullptr;
+        if (s < slots && space.alive(s) && !space.leds(s).empty()) ring = &types_[space.type(s)].ring;
+        bool rotated = false;
+        Eigen::Matrix3d rotation;
+        for_each_point(s, [&](int i, Color color) {
+          // Ring LEDs on the ring; the others (beacons, a light's LED) on the
+          // axis at the top of the body; a landmark at its centre.
+          Vec3 local(0, 0, i < 0 ? 0.5 * height : height);
+          if (i >= 0 && ring && static_cast<size_t>(i) < ring->size()) local = (*ring)[i];
+          if (!rotated) {
+            rotation = pose.orientation.toRotationMatrix();
+            rotated = true;
+          }
+          const Vec3 p = pose.position + rotation * local;
+          unsorted_[at] = {p.x(), p.y(), p.z(), color, s};
+          cell_of_[at] = static_cast<uint32_t>(CellY(p.y())) * nx_ + CellX(p.x());
+          ++at;
+        });
+      }
+    }
+  });
+
+  // Counting sort by cell, stable (slot order, then LED order, within a cell).
+  std::fill(cell_start_.begin(), cell_start_.end(), 0u);
+  for (size_t k = 0; k < count; ++k) ++cell_start_[cell_of_[k] + 1];
+  for (size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
+  cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  leds_.resize(count);
+  for (size_t k = 0; k < count; ++k) leds_[cursor_[cell_of_[k]]++] = unsorted_[k];
+  if (occlusions_ && count > 0) occluders_.Build(space, cell_);
+}
+
+COLONY_REGISTER_MEDIUM(
+    LedMedium, "led",
+    "every lit LED (robots' LED rings and beacons, lights) and every landmark, as coloured points that "
+    "cameras see",
+    (std::vector<AttributeDoc>{
+        {"cell_size", "a number > 0 (m)", "the largest camera range",
+         "side of the index's grid cells (a speed knob: which blobs are seen does not depend on it, their "
+         "order does)"},
+    }));
+
+}  // namespace colony

@@ -1,0 +1,85 @@
+// The LED medium: every lit LED in the arena (robots' LED rings and beacons,
+// lights) and every landmark, as coloured points in the world frame, in a
+// uniform grid rebuilt once per tick after physics (tick step 3). Cameras
+// (the omnidirectional camera) read the cells around them, so a query costs
+// what is near. See media/led/README.md.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "core/color.h"
+#include "core/medium.h"
+#include "core/space.h"
+#include "media/occlusion.h"
+
+namespace colony {
+
+class LedMedium : public Medium {
+ public:
+  void Configure(const ConfigNode& node) override;
+  void Update() override;
+
+  // A camera that looks `reach` metres around it (horizontally); the grid's
+  // cells follow the largest (unless cell_size is set).
+  void RequestReach(double reach) { reach_ = std::max(reach_, reach); }
+  // A camera that checks occlusions: the medium then keeps an OccluderGrid.
+  void RequestOcclusions() { occlusions_ = true; }
+  const OccluderGrid& occluders() const { return occluders_; }
+
+  // One coloured point: an LED, or a landmark's centre. 32 bytes.
+  struct Led {
+    double x, y, z;
+    Color color;
+    uint32_t owner;  // slot of the entity carrying it
+  };
+  const std::vector<Led>& leds() const { return leds_; }
+
+  // Calls visit(begin, end) for runs [begin, end) of indices into leds()
+  // that together hold every point within `reach` horizontally of (x, y)
+  // (and others near it). Runs come in a fixed order: grid rows, then cells,
+  // then owners' slots, then each owner's LEDs in order.
+  template <class Visit>
+  void ForEachCandidateRun(double x, double y, double reach, Visit&& visit) const {
+    if (leds_.empty()) return;
+    const int cx0 = CellX(x - reach), cx1 = CellX(x + reach);
+    const int cy0 = CellY(y - reach), cy1 = CellY(y + reach);
+    for (int cy = cy0; cy <= cy1; ++cy) {
+      const size_t row = static_cast<size_t>(cy) * nx_;
+      const uint32_t begin = cell_start_[row + cx0], end = cell_start_[row + cx1 + 1];
+      if (begin < end) visit(begin, end);
+    }
+  }
+  double cell_size() const { return cell_; }
+
+ private:
+  // Where a type's LEDs sit in the entity's frame (from its "leds" ring).
+  struct TypeLeds {
+    bool known = false;
+    std::vector<Vec3> ring;  // the ring's LEDs; LEDs beyond these are beacons on top of the axis
+  };
+  const TypeLeds& LedsOfType(uint32_t slot);
+  void ConfigureGrid(const Space& space, size_t count);
+  static int Cell(double f, int n) { return f < 0 ? 0 : (f >= n ? n - 1 : static_cast<int>(f)); }
+  int CellX(double x) const { return Cell((x - min_x_) * inv_cell_, nx_); }
+  int CellY(double y) const { return Cell((y - min_y_) * inv_cell_, ny_); }
+
+  double cell_size_ = 0;  // 0: from reach_
+  double reach_ = 0;
+  bool occlusions_ = false;
+  OccluderGrid occluders_;
+
+  std::vector<TypeLeds> types_;         // by space type id
+  int landmark_type_ = -1;              // space type id of "landmark", once it exists
+  std::vector<uint32_t> block_counts_;  // lit points per block of slots
+  std::vector<Led> unsorted_;
+  std::vector<uint32_t> cell_of_;
+  std::vector<Led> leds_;               // sorted by cell
+  std::vector<uint32_t> cell_start_;    // nx * ny + 1
+  std::vector<uint32_t> cursor_;
+  double cell_ = 0, inv_cell_ = 0, min_x_ = 0, min_y_ = 0;
+  int nx_ = 0, ny_ = 0;
+};
+
+}  // namespace colony

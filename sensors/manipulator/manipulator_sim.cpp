@@ -1,0 +1,172 @@
+// Simulated manipulator sensor: the head's joint positions, magnet and
+// holding state from the robot's ManipulatorState, and its 6 IR proximity
+// sensors.
+//
+// The head (as dynamics3d builds it): a box 3 cm deep and 5 cm wide whose
+// vertical pivot is just in front of the body, on the robot's x axis, at the
+// robot's base + elevation. The magnet is its outer face at rotation 0; the
+// IR side is the opposite face, facing yaw + rotation + pi. The 6 IR sensors
+// sit along that face, 5/6 cm apart, and look out fanned 15 degrees apart
+// (-37.5 .. +37.5 degrees from the face's normal). Each casts one horizontal
+// ray against the footprints of the solid entities whose height span
+// contains the ray's height. The robot's own body blocks a ray (with the
+// magnet to the front the IR side faces the body) but is not seen; the
+// object the magnet holds is ignored. As for the base's proximity ring, the
+// reading falls with the distance d to the nearest hit:
+//   value = min(1, 0.01 m / d) if d <= range, else 0
+// then noise is added and the value clamped to [0, 1].
+#include "sensors/manipulator/manipulator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/device.h"
+#include "core/geometry2d.h"
+#include "core/simulation.h"
+#include "entities/marxbot/marxbot.h"
+
+namespace colony {
+namespace {
+
+constexpr int kIrCount = 6;
+constexpr double kIrFan = M_PI / 12;  // 15 degrees between neighbouring sensors' directions
+// The head, as in engines/dynamics3d.
+constexpr double kHeadDepth = 0.03, kHeadWidth = 0.05;              // m
+constexpr double kHeadPivot = marxbot::kBodyRadius + 0.5 * kHeadDepth;  // m ahead of the robot's axis
+constexpr double kIrSpacing = kHeadWidth / kIrCount;                // m between sensors along the face
+
+// Sensor i from the IR side's right: its direction from the face's normal
+// (rad) and its offset along the face, to the left (m).
+constexpr double IrAngle(int i) { return (i - 0.5 * (kIrCount - 1)) * kIrFan; }
+constexpr double IrOffset(int i) { return (i - 0.5 * (kIrCount - 1)) * kIrSpacing; }
+// Farthest a sensor is from the robot's axis (for culling).
+const double kIrReach = kHeadPivot + 0.5 * std::hypot(kHeadDepth, kHeadWidth);
+
+struct ManipulatorSensorInstance : ManipulatorSensor, InstanceBase {
+  using Interface = ManipulatorSensor;
+  void SetJoints(const ManipulatorState& m) {
+    elevation_ = m.elevation;
+    rotation_ = m.rotation;
+    magnet_ = m.magnet;
+    holding_ = m.holding();
+  }
+  std::vector<Reading>& mutable_readings() { return readings_; }
+};
+
+std::string EngineName(const PhysicsEngine* engine) {
+  return engine ? engine->label() + " '" + engine->id() + "'" : "none";
+}
+
+class ManipulatorSensorSystem : public SensorSystem {
+ public:
+  void Configure(const ConfigNode& node) override {
+    range_ = node.GetDouble("range", 0.1, Range::Positive());
+    noise_ = NoiseModel::Read(node);
+  }
+
+  Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
+    if (!sim().space().manipulator(robot.index)) {
+      throw AttachError("it has no manipulator; declare the marxbot with manipulator=\"true\"");
+    }
+    const PhysicsEngine* engine = sim().EngineOf(robot);
+    if (!engine || !engine->SimulatesManipulator()) {
+      throw AttachError("its physics engine (" + EngineName(engine) +
+                        ") does not simulate the manipulator; use dynamics3d");
+    }
+    ManipulatorSensorInstance& s = instances_.Add(robot, rng);
+    for (int i = 0; i < kIrCount; ++i) s.mutable_readings().push_back({0.0f, static_cast<float>(IrAngle(i))});
+    return &s;
+  }
+  void Detach(Sensor* s) override { instances_.Remove(static_cast<ManipulatorSensor*>(s)); }
+  size_t size() const override { return instances_.size(); }
+
+  // As in the proximity sensor, neighbours are first culled by height and by
+  // distance from the robot's axis (a hit within range lies at most
+  // kIrReach + range from it), and the rays are cast only against what
+  // survives.
+  void Update(size_t begin, size_t end) override {
+    const Space& space = sim().space();
+    std::vector<uint32_t> near;  // per chunk
+    near.reserve(32);
+    for (size_t k = begin; k < end; ++k) {
+      ManipulatorSensorInstance& s = instances_[k];
+      if (!s.alive) continue;
+      const uint32_t self = s.robot.index;
+      const ManipulatorState& m = *space.manipulator(self);
+      s.SetJoints(m);
+      const Pose& pose = space.pose(self);
+      const double reach = kIrReach + range_;
+      const Vec2 c = pose.position.head<2>();
+      const double z = pose.position.z() + m.elevation;
+      near.clear();
+      space.Gather(c.x() - reach, c.y() - reach, c.x() + reach, c.y() + reach, near);
+      size_t kept = 0;
+      for (uint32_t o : near) {
+        if (o == self || o == m.held) continue;
+        const Vec3& op = space.pose(o).position;
+        const Geometry& og = space.geometry(o);
+        if (!(z >= op.z() && z < op.z() + og.height())) continue;
+        const double limit = reach + og.BoundingRadius() + 1e-6;
+        if ((op.head<2>() - c).squaredNorm() >= limit * limit) continue;
+        near[kept++] = o;
+      }
+      near.resize(kept);
+      auto& readings = s.mutable_readings();
+      // The IR face: centre and the directions along its normal and its width.
+      const double yaw = YawOf(pose.orientation);
+      const double facing = yaw + m.rotation + M_PI;
+      const Vec2 normal(std::cos(facing), std::sin(facing)), across(-normal.y(), normal.x());
+      const Vec2 face = c + kHeadPivot * Vec2(std::cos(yaw), std::sin(yaw)) + 0.5 * kHeadDepth * normal;
+      for (int i = 0; i < kIrCount; ++i) {
+        double value = 0;
+        if (!near.empty()) {
+          const double a = facing + IrAngle(i);
+          const Vec2 dir(std::cos(a), std::sin(a));
+          const Vec2 origin = face + IrOffset(i) * across;
+          double best = kNoHit;
+          for (uint32_t o : near) best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
+          // What lies behind the robot's own body is hidden.
+          if (best <= range_ && RayFootprint(origin, dir, pose, space.geometry(self)) > best) {
+            value = std::min(1.0, 0.01 / std::max(best, 1e-6));
+          }
+        }
+        if (noise_.enabled()) {
+          value = noise_.Drop(s.rng) ? 0.0 : std::clamp(noise_.Apply(value, s.rng), 0.0, 1.0);
+        }
+        readings[i].value = static_cast<float>(value);
+      }
+    }
+  }
+
+  void Hash(StateHasher& h) const override {
+    for (size_t k = 0; k < instances_.size(); ++k) {
+      const auto& s = instances_[k];
+      if (!s.alive) continue;
+      const double joints[4] = {s.elevation(), s.rotation(), s.magnet(), s.holding() ? 1.0 : 0.0};
+      h.Add(joints, sizeof joints);
+      h.Add(s.readings().data(), s.readings().size() * sizeof(ManipulatorSensor::Reading));
+    }
+  }
+
+ private:
+  double range_ = 0.1;
+  NoiseModel noise_;
+  InstanceStore<ManipulatorSensorInstance> instances_;
+};
+
+std::vector<AttributeDoc> ManipulatorSensorAttributes() {
+  std::vector<AttributeDoc> a = {
+      {"range", "a number > 0 (m)", "0.1", "how far from the head's IR side objects are seen"}};
+  for (auto& n : NoiseModel::Attributes()) a.push_back(n);
+  return a;
+}
+
+COLONY_REGISTER_SENSOR(ManipulatorSensorSystem, "manipulator", "default",
+                       "the construction manipulator's head elevation (m) and rotation (rad), its magnet "
+                       "(0..1, engaged), whether it holds something, and the 6 IR proximity sensors of the "
+                       "head's IR side (0.01/d, 0 beyond range)",
+                       ManipulatorSensorAttributes());
+
+}  // namespace
+}  // namespace colony
