@@ -75,9 +75,10 @@ TEST(Dynamics2d, RobotDrivesAtItsCommandedSpeedOnAFreeFloor) {
 }
 
 TEST(Dynamics2d, BadParametersAreRejectedWithElementAndLine) {
-  for (const char* bad : {"substeps=\"0\"", "friction=\"-1\"", "robot_max_force=\"nan\"", "iterations=\"x\""}) {
+  for (const char* bad_text : {"substeps=\"0\"", "friction=\"-1\"", "robot_max_force=\"nan\"", "iterations=\"x\""}) {
+    const std::string bad = bad_text;
     const std::string message = testing::LoadError(testing::Experiment(
-        "", "", "4,4,1", "", "<dynamics2d id=\"d2d\" " + bad + "/>"));
+        "", "", "4,4,1", "", std::string("<dynamics2d id=\"d2d\" ") + bad + "/>"));
     const std::string attribute = bad.substr(0, bad.find('='));
     EXPECT_NE(message.find("<string>:1: <dynamics2d id=\"d2d\"> attribute '" + attribute + "'"), std::string::npos)
         << bad << ": " << message;
