@@ -195,16 +195,28 @@ void Simulation::Act() {
   }
 }
 
-void Simulation::SenseAndControl() {
-  for (auto& s : sensor_systems_) {
-    pool_->ParallelFor(s->size(), 64, [&](size_t b, size_t e) { s->Update(b, e); });
+// Whether sensor instance k of every sensor system belongs to robots_[k]:
+// every robot runs the same controller configuration, so each of its sensor
+// systems holds one instance per robot, attached in the same order.
+bool Simulation::SensorsAlignWithRobots() const {
+  if (robots_.empty()) return false;
+  const ControllerConfig* config = robots_.front().config;
+  for (const Robot& r : robots_) {
+    if (r.config != config) return false;
   }
+  for (const SensorSystem* s : config->sensors) {
+    if (s->size() != robots_.size()) return false;
+  }
+  return true;
+}
+
+void Simulation::SenseAndControl() {
   // A controller that throws fails the run; the lowest robot index is
   // reported so the message does not depend on scheduling.
   std::mutex error_mutex;
   size_t error_robot = SIZE_MAX;
   std::string error_message;
-  pool_->ParallelFor(robots_.size(), 64, [&](size_t b, size_t e) {
+  auto control = [&](size_t b, size_t e) {
     for (size_t i = b; i < e; ++i) {
       Robot& r = robots_[i];
       if (!r.alive) continue;
@@ -218,7 +230,23 @@ void Simulation::SenseAndControl() {
         }
       }
     }
-  });
+  };
+  if (SensorsAlignWithRobots()) {
+    // Each chunk of robots is sensed, then controlled while its readings are
+    // still in cache. Sensors read only the space and the media, which
+    // controllers do not change during this step, so the results are those
+    // of sensing every robot first.
+    const auto& sensors = robots_.front().config->sensors;
+    pool_->ParallelFor(robots_.size(), 64, [&](size_t b, size_t e) {
+      for (SensorSystem* s : sensors) s->Update(b, e);
+      control(b, e);
+    });
+  } else {
+    for (auto& s : sensor_systems_) {
+      pool_->ParallelFor(s->size(), 64, [&](size_t b, size_t e) { s->Update(b, e); });
+    }
+    pool_->ParallelFor(robots_.size(), 64, control);
+  }
   if (error_robot != SIZE_MAX) {
     throw RuntimeFailure("controller of robot '" + robots_[error_robot].id + "' failed at tick " +
                          std::to_string(tick_ + 1) + ": " + error_message);

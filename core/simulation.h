@@ -157,6 +157,7 @@ class Simulation {
   void AttachController(Robot& robot, const ConfigNode& where);
   void Act();
   void SenseAndControl();
+  bool SensorsAlignWithRobots() const;
 
   // File and parsed document (kept for messages, runtime additions and output).
   std::string file_;
