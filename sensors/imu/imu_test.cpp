@@ -1,5 +1,6 @@
 // IMU: what a gyroscope and an accelerometer on a marXbot would read.
 #include "actuators/differential_steering/differential_steering.h"
+#include "core/engine.h"
 #include "sensors/imu/imu.h"
 #include "tests/test_util.h"
 
@@ -66,6 +67,27 @@ TEST(Imu, GyroscopeReadsTheTurnRate) {
   for (int t = 0; t < 5; ++t) sim->Step();
   EXPECT_NEAR(probe.imu->angular_velocity()[2], -1.0, 1e-9);
 }
+
+// In 3D the IMU reads what ODE makes of the body: resting on its treels,
+// then turning on the spot.
+TEST(Imu, ReadsTheBodyInDynamics3d) {
+  if (!Registry<PhysicsEngine>::Get().Find("dynamics3d")) GTEST_SKIP() << "built without dynamics3d";
+  auto sim = testing::LoadXml(testing::Experiment(
+      "<marxbot id=\"r\"><body position=\"0,0,0\"/><controller config=\"p\"/></marxbot>",
+      "<imu_probe id=\"p\"><actuators><differential_steering/></actuators><sensors><imu/></sensors></imu_probe>",
+      "4,4,1", "", "<dynamics3d id=\"d3d\"/>"));
+  ImuProbe& probe = Probe(*sim);
+  for (int t = 0; t < 20; ++t) sim->Step();
+  EXPECT_NEAR(probe.imu->acceleration()[2], 9.81, 0.05);
+  EXPECT_NEAR(probe.imu->acceleration()[0], 0.0, 0.05);
+  EXPECT_NEAR(probe.imu->angular_velocity()[2], 0.0, 0.01);
+  probe.left = -0.07;
+  probe.right = 0.07;  // 1 rad/s to the left
+  for (int t = 0; t < 20; ++t) sim->Step();
+  EXPECT_NEAR(probe.imu->angular_velocity()[2], 1.0, 0.1);
+  EXPECT_NEAR(probe.imu->acceleration()[2], 9.81, 0.2);
+}
+
 
 TEST(Imu, NoiseHasTheDeclaredSpread) {
   auto sim = Scene("gyro_noise_std_dev=\"0.01\" accel_noise_std_dev=\"0.1\"");
