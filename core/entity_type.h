@@ -3,10 +3,13 @@
 // it to the space and hands it to an engine and, for robots, to a controller.
 #pragma once
 
+#include <deque>
 #include <map>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "core/config.h"
 #include "core/registry.h"
@@ -23,6 +26,29 @@ struct RingMount {
   double start_angle = 0;  // of the first device, counter-clockwise from the front (rad)
   double range = 0;        // nominal range where it applies (m)
   double AngleOf(int i) const { return start_angle + 2.0 * M_PI * i / count; }
+};
+
+// Unit vectors (robot frame, in the horizontal plane) of the devices of
+// ring mounts, computed once per mount and shared by every robot carrying
+// it: a private copy per robot would cost count x 16 bytes each. The
+// returned pointers stay valid for the owner's lifetime.
+class RingDirections {
+ public:
+  const Vec2* Of(const RingMount& mount) {
+    for (const auto& [ring, directions] : table_) {
+      if (ring == &mount) return directions.data();
+    }
+    std::vector<Vec2> directions;
+    for (int i = 0; i < mount.count; ++i) {
+      const double a = mount.AngleOf(i);
+      directions.emplace_back(std::cos(a), std::sin(a));
+    }
+    table_.emplace_back(&mount, std::move(directions));
+    return table_.back().second.data();
+  }
+
+ private:
+  std::deque<std::pair<const RingMount*, std::vector<Vec2>>> table_;  // a deque keeps the tables in place
 };
 
 // Where a robot type carries its devices, by name ("proximity", "ground", "leds").

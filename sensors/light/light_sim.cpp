@@ -69,7 +69,7 @@ class LightSystem : public SensorSystem {
     for (int i = 0; i < mount->count; ++i) {
       s.mutable_readings()[i] = {0.0f, static_cast<float>(WrapAngle(mount->AngleOf(i)))};
     }
-    s.directions = DirectionsOf(*mount);
+    s.directions = directions_.Of(*mount);
     return &s;
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<LightSensor*>(s)); }
@@ -215,24 +215,10 @@ class LightSystem : public SensorSystem {
     return false;
   }
 
-  // The sensors' directions of a ring, computed once per ring.
-  const Vec2* DirectionsOf(const RingMount& mount) {
-    for (const auto& [ring, directions] : directions_) {
-      if (ring == &mount) return directions.data();
-    }
-    std::vector<Vec2> directions;
-    for (int i = 0; i < mount.count; ++i) {
-      const double a = mount.AngleOf(i);
-      directions.emplace_back(std::cos(a), std::sin(a));
-    }
-    directions_.emplace_back(&mount, std::move(directions));
-    return directions_.back().second.data();
-  }
-
   bool check_occlusions_ = true;
   NoiseModel noise_;
   InstanceStore<LightInstance> instances_;
-  std::deque<std::pair<const RingMount*, std::vector<Vec2>>> directions_;
+  RingDirections directions_;  // per ring mount (one per robot type)
   LightScene scene_;
   std::atomic<uint64_t> scene_tick_{~uint64_t{0}};
   std::mutex scene_mutex_;

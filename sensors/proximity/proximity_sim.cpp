@@ -45,7 +45,7 @@ class ProximitySystem : public SensorSystem {
     for (int i = 0; i < mount->count; ++i) {
       p.mutable_readings()[i] = {0.0f, static_cast<float>(WrapAngle(mount->AngleOf(i)))};
     }
-    p.directions = DirectionsOf(*mount);
+    p.directions = directions_.Of(*mount);
     return &p;
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<ProximitySensor*>(s)); }
@@ -123,25 +123,10 @@ class ProximitySystem : public SensorSystem {
     return noise_.Drop(rng) ? 0.0 : std::clamp(noise_.Apply(value, rng), 0.0, 1.0);
   }
 
-  // The sensors' directions of a ring, computed once per ring.
-  const Vec2* DirectionsOf(const RingMount& mount) {
-    for (const auto& [ring, directions] : directions_) {
-      if (ring == &mount) return directions.data();
-    }
-    std::vector<Vec2> directions;
-    for (int i = 0; i < mount.count; ++i) {
-      const double a = mount.AngleOf(i);
-      directions.emplace_back(std::cos(a), std::sin(a));
-    }
-    directions_.emplace_back(&mount, std::move(directions));
-    return directions_.back().second.data();
-  }
-
   double range_ = -1;
   NoiseModel noise_;
   InstanceStore<ProximityInstance> instances_;
-  // Per ring mount (one per robot type); a deque keeps the tables in place.
-  std::deque<std::pair<const RingMount*, std::vector<Vec2>>> directions_;
+  RingDirections directions_;  // per ring mount (one per robot type)
 };
 
 std::vector<AttributeDoc> ProximityAttributes() {
