@@ -37,25 +37,6 @@ const LedMedium::TypeLeds& LedMedium::LedsOfType(uint32_t slot) {
   return t;
 }
 
-void LedMedium::ConfigureGrid(const Space& space, size_t count) {
-  double cell = cell_size_ > 0 ? cell_size_ : (reach_ > 0 ? reach_ : 1.0);
-  const Vec3& lo = space.arena_min();
-  const Vec3& hi = space.arena_max();
-  const double wx = std::max(hi.x() - lo.x(), 1e-9), wy = std::max(hi.y() - lo.y(), 1e-9);
-  // Keep the table small compared with the number of points.
-  const double limit = std::max<double>(4096, 4.0 * count);
-  while (std::ceil(wx / cell) * std::ceil(wy / cell) > limit) cell *= 1.25;
-  const int nx = static_cast<int>(std::ceil(wx / cell)), ny = static_cast<int>(std::ceil(wy / cell));
-  if (nx == nx_ && ny == ny_ && cell == cell_ && min_x_ == lo.x() && min_y_ == lo.y()) return;
-  cell_ = cell;
-  inv_cell_ = 1.0 / cell;
-  min_x_ = lo.x();
-  min_y_ = lo.y();
-  nx_ = nx;
-  ny_ = ny;
-  cell_start_.assign(static_cast<size_t>(nx_) * ny_ + 1, 0);
-}
-
 void LedMedium::Update() {
   const Space& space = sim().space();
   const uint32_t slots = space.slots();
@@ -97,7 +78,7 @@ void LedMedium::Update() {
   });
   for (size_t b = 1; b <= blocks; ++b) block_counts_[b] += block_counts_[b - 1];
   const size_t count = block_counts_[blocks];
-  ConfigureGrid(space, count);
+  grid_.Configure(space, cell_size_ > 0 ? cell_size_ : (reach_ > 0 ? reach_ : 1.0), count);
 
   // Pass 2: the points in the world frame, and their cells.
   unsorted_.resize(count);
@@ -124,7 +105,7 @@ void LedMedium::Update() {
           }
           const Vec3 p = pose.position + rotation * local;
           unsorted_[at] = {p.x(), p.y(), p.z(), color, s};
-          cell_of_[at] = static_cast<uint32_t>(CellY(p.y())) * nx_ + CellX(p.x());
+          cell_of_[at] = grid_.CellOf(p.x(), p.y());
           ++at;
         });
       }
@@ -132,13 +113,8 @@ void LedMedium::Update() {
   });
 
   // Counting sort by cell, stable (slot order, then LED order, within a cell).
-  std::fill(cell_start_.begin(), cell_start_.end(), 0u);
-  for (size_t k = 0; k < count; ++k) ++cell_start_[cell_of_[k] + 1];
-  for (size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
-  cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
-  leds_.resize(count);
-  for (size_t k = 0; k < count; ++k) leds_[cursor_[cell_of_[k]]++] = unsorted_[k];
-  if (occlusions_ && count > 0) occluders_.Build(space, cell_);
+  grid_.Sort(unsorted_, cell_of_, count, leds_);
+  if (occlusions_ && count > 0) occluders_.Build(space, grid_.cell_size());
 }
 
 COLONY_REGISTER_MEDIUM(

@@ -12,6 +12,7 @@
 #include "core/color.h"
 #include "core/medium.h"
 #include "core/space.h"
+#include "media/cell_grid.h"
 #include "media/occlusion.h"
 
 namespace colony {
@@ -43,15 +44,9 @@ class LedMedium : public Medium {
   template <class Visit>
   void ForEachCandidateRun(double x, double y, double reach, Visit&& visit) const {
     if (leds_.empty()) return;
-    const int cx0 = CellX(x - reach), cx1 = CellX(x + reach);
-    const int cy0 = CellY(y - reach), cy1 = CellY(y + reach);
-    for (int cy = cy0; cy <= cy1; ++cy) {
-      const size_t row = static_cast<size_t>(cy) * nx_;
-      const uint32_t begin = cell_start_[row + cx0], end = cell_start_[row + cx1 + 1];
-      if (begin < end) visit(begin, end);
-    }
+    grid_.ForEachRun(x, y, reach, visit);
   }
-  double cell_size() const { return cell_; }
+  double cell_size() const { return grid_.cell_size(); }
 
  private:
   // Where a type's LEDs sit in the entity's frame (from its "leds" ring).
@@ -60,10 +55,6 @@ class LedMedium : public Medium {
     std::vector<Vec3> ring;  // the ring's LEDs; LEDs beyond these are beacons on top of the axis
   };
   const TypeLeds& LedsOfType(uint32_t slot);
-  void ConfigureGrid(const Space& space, size_t count);
-  static int Cell(double f, int n) { return f < 0 ? 0 : (f >= n ? n - 1 : static_cast<int>(f)); }
-  int CellX(double x) const { return Cell((x - min_x_) * inv_cell_, nx_); }
-  int CellY(double y) const { return Cell((y - min_y_) * inv_cell_, ny_); }
 
   double cell_size_ = 0;  // 0: from reach_
   double reach_ = 0;
@@ -76,10 +67,7 @@ class LedMedium : public Medium {
   std::vector<Led> unsorted_;
   std::vector<uint32_t> cell_of_;
   std::vector<Led> leds_;               // sorted by cell
-  std::vector<uint32_t> cell_start_;    // nx * ny + 1
-  std::vector<uint32_t> cursor_;
-  double cell_ = 0, inv_cell_ = 0, min_x_ = 0, min_y_ = 0;
-  int nx_ = 0, ny_ = 0;
+  CellGrid grid_;
 };
 
 }  // namespace colony

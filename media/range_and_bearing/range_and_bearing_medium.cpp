@@ -33,25 +33,6 @@ void RangeAndBearingMedium::RemoveEmitter(uint32_t emitter) {
   staged_sending_[emitter] = 0;
 }
 
-void RangeAndBearingMedium::ConfigureGrid(const Space& space, double cell) {
-  const Vec3& lo = space.arena_min();
-  const Vec3& hi = space.arena_max();
-  const double wx = std::max(hi.x() - lo.x(), 1e-9), wy = std::max(hi.y() - lo.y(), 1e-9);
-  // Cells narrower than the range would only add rows to every query; keep
-  // the table small compared with the number of messages.
-  const double limit = std::max<double>(4096, 4.0 * active_.size());
-  while (std::ceil(wx / cell) * std::ceil(wy / cell) > limit) cell *= 1.25;
-  const int nx = static_cast<int>(std::ceil(wx / cell)), ny = static_cast<int>(std::ceil(wy / cell));
-  if (nx == nx_ && ny == ny_ && cell == cell_ && min_x_ == lo.x() && min_y_ == lo.y()) return;
-  cell_ = cell;
-  inv_cell_ = 1.0 / cell;
-  min_x_ = lo.x();
-  min_y_ = lo.y();
-  nx_ = nx;
-  ny_ = ny;
-  cell_start_.assign(static_cast<size_t>(nx_) * ny_ + 1, 0);
-}
-
 void RangeAndBearingMedium::Update() {
   const Space& space = sim().space();
   // The messages of this tick: staged by a live sender.
@@ -63,7 +44,7 @@ void RangeAndBearingMedium::Update() {
     active_.push_back(e);
     max_range_ = std::max(max_range_, em.range);
   }
-  ConfigureGrid(space, cell_size_ > 0 ? cell_size_ : (max_range_ > 0 ? max_range_ : range_));
+  grid_.Configure(space, cell_size_ > 0 ? cell_size_ : (max_range_ > 0 ? max_range_ : range_), active_.size());
 
   // Counting sort by cell, stable in emitter order: positions are computed
   // once into unsorted_ (in parallel), then scattered.
@@ -76,19 +57,14 @@ void RangeAndBearingMedium::Update() {
       const Vec3 p = RangeAndBearingPoint(space, em.robot.index);
       unsorted_[k] = {p.x(), p.y(), static_cast<float>(p.z()), static_cast<float>(em.range * em.range),
                       em.robot.index, em.data_offset};
-      cell_of_[k] = static_cast<uint32_t>(CellY(p.y())) * nx_ + CellX(p.x());
+      cell_of_[k] = grid_.CellOf(p.x(), p.y());
     }
   });
-  std::fill(cell_start_.begin(), cell_start_.end(), 0u);
-  for (size_t k = 0; k < n; ++k) ++cell_start_[cell_of_[k] + 1];
-  for (size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
-  cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
-  messages_.resize(n);
-  for (size_t k = 0; k < n; ++k) messages_[cursor_[cell_of_[k]]++] = unsorted_[k];
+  grid_.Sort(unsorted_, cell_of_, n, messages_);
   // The payloads as they are now: the actuators overwrite the staging area
   // next tick while receivers may still hold spans into this copy.
   payload_.assign(staged_data_.begin(), staged_data_.end());
-  if (check_occlusions_ && n > 0) occluders_.Build(space, cell_);
+  if (check_occlusions_ && n > 0) occluders_.Build(space, grid_.cell_size());
 }
 
 COLONY_REGISTER_MEDIUM(

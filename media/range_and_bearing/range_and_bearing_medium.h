@@ -14,6 +14,7 @@
 
 #include "core/medium.h"
 #include "core/space.h"
+#include "media/cell_grid.h"
 #include "media/occlusion.h"
 
 namespace colony {
@@ -87,16 +88,10 @@ class RangeAndBearingMedium : public Medium {
   template <class Visit>
   void ForEachCandidateRun(double x, double y, double reach, Visit&& visit) const {
     if (messages_.empty()) return;
-    const int cx0 = CellX(x - reach), cx1 = CellX(x + reach);
-    const int cy0 = CellY(y - reach), cy1 = CellY(y + reach);
-    for (int cy = cy0; cy <= cy1; ++cy) {
-      const size_t row = static_cast<size_t>(cy) * nx_;
-      const uint32_t begin = cell_start_[row + cx0], end = cell_start_[row + cx1 + 1];
-      if (begin < end) visit(begin, end);
-    }
+    grid_.ForEachRun(x, y, reach, visit);
   }
 
-  double cell_size() const { return cell_; }
+  double cell_size() const { return grid_.cell_size(); }
   // The solid bodies, rebuilt with the index when occlusions are checked.
   const OccluderGrid& occluders() const { return occluders_; }
 
@@ -108,11 +103,6 @@ class RangeAndBearingMedium : public Medium {
     uint32_t data_size = 0;
     bool alive = true;
   };
-  void ConfigureGrid(const Space& space, double cell);
-  // Cells of positions outside the arena are those of its edge.
-  static int Cell(double f, int n) { return f < 0 ? 0 : (f >= n ? n - 1 : static_cast<int>(f)); }
-  int CellX(double x) const { return Cell((x - min_x_) * inv_cell_, nx_); }
-  int CellY(double y) const { return Cell((y - min_y_) * inv_cell_, ny_); }
 
   // Settings.
   bool check_occlusions_ = true;
@@ -129,15 +119,12 @@ class RangeAndBearingMedium : public Medium {
   // candidates of a query are a few contiguous runs, one per grid row.
   std::vector<Message> messages_;
   std::vector<uint8_t> payload_;  // a copy of staged_data_ taken at Update
-  std::vector<uint32_t> cell_start_;  // nx * ny + 1
+  CellGrid grid_;
   std::vector<uint32_t> active_;      // emitters sending this tick
   std::vector<uint32_t> cell_of_;     // per active emitter
   std::vector<Message> unsorted_;     // per active emitter
-  std::vector<uint32_t> cursor_;      // per cell, while sorting
   double max_range_ = 0;
   OccluderGrid occluders_;
-  double cell_ = 0, inv_cell_ = 0, min_x_ = 0, min_y_ = 0;
-  int nx_ = 0, ny_ = 0;
 };
 
 }  // namespace colony
