@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")"
 
 PACKAGES=(g++ make cmake pkg-config python3 libeigen3-dev libtinyxml2-dev libpng-dev libgtest-dev
-          libbox2d-dev libode-dev libosmesa6-dev libassimp-dev libopenmpi-dev openmpi-bin)
+          libbox2d-dev libode-dev nlohmann-json3-dev libosmesa6-dev libassimp-dev libopenmpi-dev openmpi-bin)
 BUILD_DIR=${COLONY_BUILD_DIR:-build}
 
 install_missing() {

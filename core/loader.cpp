@@ -1159,6 +1159,7 @@ void ExperimentLoader::ReadLoopFunctions(const ConfigNode& root) {
     params_node.Error(e.key(), e.value(), e.what());
   }
   sim_.loop_functions_.push_back(std::move(lf));
+  sim_.loop_function_info_.push_back(&entry->info);
 }
 
 void ExperimentLoader::ReadOutput(const ConfigNode& root) {

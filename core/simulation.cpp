@@ -3,7 +3,10 @@
 #include <tinyxml2.h>
 
 #include <algorithm>
+#include <chrono>
 #include <mutex>
+
+#include "core/crash_report.h"
 
 namespace colony {
 
@@ -112,6 +115,10 @@ void Simulation::AttachController(Robot& robot, const ConfigNode& where) {
     config.node.ElementError("controller '" + config.label + "' failed to start on robot '" +
                              robot.id + "': " + e.what());
     context_->diagnostics.ThrowIfAny();
+  } catch (...) {
+    config.node.ElementError("controller '" + config.label + "' failed to start on robot '" + robot.id +
+                             "': it threw something that is not a std::exception");
+    context_->diagnostics.ThrowIfAny();
   }
   if (!config.params_checked) {
     // Parameters the controller never read are typos or leftovers.
@@ -216,18 +223,25 @@ void Simulation::SenseAndControl() {
   std::mutex error_mutex;
   size_t error_robot = SIZE_MAX;
   std::string error_message;
+  auto fail = [&](size_t robot, const std::string& message) {
+    std::lock_guard lock(error_mutex);
+    if (robot < error_robot) {
+      error_robot = robot;
+      error_message = message;
+    }
+  };
   auto control = [&](size_t b, size_t e) {
     for (size_t i = b; i < e; ++i) {
       Robot& r = robots_[i];
       if (!r.alive) continue;
+      const RunningScope running({"controller", r.config->label.c_str(), LibraryOf(*r.config),
+                                  r.id.c_str(), tick_ + 1});
       try {
         r.controller->ControlStep();
       } catch (const std::exception& ex) {
-        std::lock_guard lock(error_mutex);
-        if (i < error_robot) {
-          error_robot = i;
-          error_message = ex.what();
-        }
+        fail(i, ex.what());
+      } catch (...) {
+        fail(i, "it threw something that is not a std::exception");
       }
     }
   };
@@ -248,16 +262,49 @@ void Simulation::SenseAndControl() {
     pool_->ParallelFor(robots_.size(), 64, control);
   }
   if (error_robot != SIZE_MAX) {
-    throw RuntimeFailure("controller of robot '" + robots_[error_robot].id + "' failed at tick " +
+    const Robot& r = robots_[error_robot];
+    throw RuntimeFailure("controller '" + r.config->label + "' of robot '" + r.id + "' failed at tick " +
                          std::to_string(tick_ + 1) + ": " + error_message);
   }
 }
 
+const char* Simulation::LibraryOf(const ControllerConfig& config) {
+  const auto& library = static_cast<const Registry<Controller>::Entry*>(config.entry)->info.library;
+  return library.empty() ? nullptr : library.c_str();
+}
+
+template <typename Hook>
+void Simulation::CallLoopFunctions(const char* hook, uint64_t tick, Hook&& call) {
+  for (size_t i = 0; i < loop_functions_.size(); ++i) {
+    const PluginInfo& info = *loop_function_info_[i];
+    const RunningScope running({"loop functions", info.label.c_str(),
+                                info.library.empty() ? nullptr : info.library.c_str(), nullptr, tick});
+    try {
+      call(*loop_functions_[i]);
+    } catch (const std::exception& e) {
+      throw RuntimeFailure("loop functions '" + info.label + "' failed in " + hook + " at tick " +
+                           std::to_string(tick) + ": " + e.what());
+    } catch (...) {
+      throw RuntimeFailure("loop functions '" + info.label + "' failed in " + hook + " at tick " +
+                           std::to_string(tick) + ": it threw something that is not a std::exception");
+    }
+  }
+}
+
 void Simulation::Step() {
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point mark = Clock::now();
+  // Adds the time since the last mark to `phase`.
+  auto lap = [&mark](double& phase) {
+    const Clock::time_point now = Clock::now();
+    phase += std::chrono::duration<double>(now - mark).count();
+    mark = now;
+  };
   // Entities added or removed since the last tick.
   if (space_.index_dirty()) space_.UpdateIndex();
   // 1. act
   Act();
+  lap(profile_.act);
   // 2. physics (engines in parallel with each other), migration between
   // engines, then the spatial index for sensors and the next tick
   if (engines_.size() == 1) {
@@ -269,19 +316,26 @@ void Simulation::Step() {
     Migrate();
   }
   space_.UpdateIndex();
+  lap(profile_.physics);
   // 3. media
   for (auto& m : media_) m->Update();
+  lap(profile_.media);
   // 4. loop functions pre-step
-  for (auto& lf : loop_functions_) lf->PreStep();
+  CallLoopFunctions("PreStep", tick_ + 1, [](LoopFunctions& lf) { lf.PreStep(); });
   if (space_.index_dirty()) space_.UpdateIndex();
+  lap(profile_.loop_functions);
   // 5. sense + control
   SenseAndControl();
   ++tick_;
+  lap(profile_.sense_control);
   // 6. loop functions post-step and stop conditions
-  for (auto& lf : loop_functions_) lf->PostStep();
+  CallLoopFunctions("PostStep", tick_, [](LoopFunctions& lf) { lf.PostStep(); });
   if (space_.index_dirty()) space_.UpdateIndex();
   done_ = length_ticks_ > 0 && tick_ >= length_ticks_;
-  for (auto& lf : loop_functions_) done_ = lf->IsExperimentFinished() || done_;
+  CallLoopFunctions("IsExperimentFinished", tick_,
+                    [this](LoopFunctions& lf) { done_ = lf.IsExperimentFinished() || done_; });
+  lap(profile_.loop_functions);
+  ++profile_.ticks;
 }
 
 Renderer& Simulation::AddRenderer(const std::string& xml) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/crash_report.h"
+
 namespace colony {
 
 ThreadPool::ThreadPool(int threads) : threads_(std::max(threads, 0)) {
@@ -43,6 +45,7 @@ void ThreadPool::RunChunks() {
 }
 
 void ThreadPool::WorkerLoop() {
+  UseAlternateSignalStack();
   uint64_t seen = 0;
   mutex_.lock();
   while (true) {

@@ -1,10 +1,12 @@
 // colony: the command line program.
-//   colony run FILE.xml [--threads N] [--seed S] [--set PATH=VALUE]... [--out DIR] [--quiet]
-//              [--frames DIR] [--video FILE.mp4]
+//   colony run FILE.xml [--threads N] [--seed S] [--set PATH=VALUE]... [--out DIR] [--overwrite]
+//              [--quiet] [--frames DIR] [--video FILE.mp4]
 //   colony query [KIND|NAME]
 //   colony sweep FILE.xml [--param PATH=V1,V2,...]... [--seeds A..B] ...  (apps/colony/sweep.h)
 //   colony version
-// Exit status: 0 success, 2 bad input (file or command line), 1 failure while running.
+// Exit status: 0 success, 2 bad input (file or command line), 1 failure while running,
+// 128 + N after signal N (SIGINT 130, SIGTERM 143, SIGHUP 129: the run stops after
+// the current tick and says so in summary.json; a crash ends with the signal itself).
 #include <dirent.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "apps/colony/sweep.h"
+#include "core/crash_report.h"
 #include "core/log.h"
 #include "core/output.h"
 #include "core/plugin_loader.h"
@@ -32,8 +35,8 @@ using colony::ConfigError;
 
 constexpr const char* kUsage =
     "usage:\n"
-    "  colony run FILE.xml [--threads N] [--seed S] [--set PATH=VALUE]... [--out DIR] [--quiet]\n"
-    "             [--frames DIR] [--video FILE.mp4]\n"
+    "  colony run FILE.xml [--threads N] [--seed S] [--set PATH=VALUE]... [--out DIR] [--overwrite]\n"
+    "             [--quiet] [--frames DIR] [--video FILE.mp4]\n"
     "  colony query [KIND|NAME]      list plugins (kinds: entity, engine, physics_model, sensor,\n"
     "                                actuator, medium, renderer, controller, loop_functions)\n"
     "  colony sweep FILE.xml [--param PATH=V1,V2,...]... [--seeds 1..30] [--jobs N] [--out DIR] ...\n"
@@ -43,7 +46,11 @@ constexpr const char* kUsage =
     "  controllers.diffusion[dc].params.velocity=0.1 (name[id] picks an element by id)\n"
     "--frames DIR writes PNG frames there (the file's <visualization>, else a camera over the\n"
     "  arena); --video FILE.mp4 also assembles them with ffmpeg (frames then go to the run\n"
-    "  folder's frames/ unless --frames is given)\n";
+    "  folder's frames/ unless --frames is given)\n"
+    "--out and --frames refuse a folder that is not empty; --overwrite replaces the files a run\n"
+    "  writes there (experiment.xml, metrics.csv, hashes.csv, summary.json, frames/, *.png)\n"
+    "Ctrl-C (SIGINT), SIGTERM and SIGHUP stop the run after the current tick: the results so far\n"
+    "  are written and summary.json says \"completed\": false; exit status 128 + the signal\n";
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -136,7 +143,7 @@ std::vector<std::string> MakeVideos(const std::vector<colony::FrameSeries>& seri
 int Run(const std::vector<std::string>& args) {
   colony::ExperimentOptions options;
   std::string out_dir, frames_dir, video;
-  bool quiet = false;
+  bool quiet = false, overwrite = false;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&](const char* name) -> std::string {
@@ -158,6 +165,8 @@ int Run(const std::vector<std::string>& args) {
       if (out_dir.empty()) throw UsageError("--out needs a folder");
     } else if (a == "--quiet") {
       quiet = true;
+    } else if (a == "--overwrite") {
+      overwrite = true;
     } else if (a == "--frames") {
       frames_dir = value("--frames");
       if (frames_dir.empty()) throw UsageError("--frames needs a folder");
@@ -182,6 +191,16 @@ int Run(const std::vector<std::string>& args) {
         "elsewhere");
   }
 
+  // Output folders are checked before loading: a long load should not end in
+  // a refusal.
+  try {
+    if (!out_dir.empty()) colony::PrepareOutputFolder(out_dir, "--out", overwrite, colony::RunFolderFiles());
+    if (!frames_dir.empty()) colony::PrepareOutputFolder(frames_dir, "--frames", overwrite, {"*.png"});
+  } catch (const colony::OutputFolderInUse& e) {
+    throw UsageError(e.what());
+  }
+  colony::InstallCrashHandlers();
+
   const auto t0 = std::chrono::steady_clock::now();
   auto sim = colony::Simulation::Load(options);
   if ((!frames_dir.empty() || !video.empty()) && sim->renderers().empty()) {
@@ -194,9 +213,15 @@ int Run(const std::vector<std::string>& args) {
   if (out_dir.empty()) out_dir = colony::FreshRunDir("runs", options.file);
   colony::RunOutput output(out_dir, *sim);
   Progress progress(!quiet && isatty(STDERR_FILENO));
+  colony::InstallStopHandlers();
   const auto summary = colony::RunToEnd(*sim, &output, load_seconds,
                                         [&](const colony::Simulation& s) { progress.Update(s); });
   progress.Finish();
+  if (!summary.completed) {
+    std::fprintf(stderr, "colony: %s; results so far in %s/ (summary.json says \"completed\": false)\n",
+                 summary.stop_reason.c_str(), output.dir().c_str());
+    return 128 + colony::StopSignal();
+  }
   if (!video.empty()) {
     std::vector<colony::FrameSeries> series;
     for (const auto& r : sim->renderers()) {
@@ -291,6 +316,9 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "\ncolony: run failed: %s\n", e.what());
+    return 1;
+  } catch (...) {
+    std::fprintf(stderr, "\ncolony: run failed: a plugin threw something that is not a std::exception\n");
     return 1;
   }
 }

@@ -3,14 +3,17 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "apps/colony/sweep.h"
+#include "core/output.h"
 
 namespace colony::sweep {
 
@@ -30,74 +33,22 @@ std::string ReadText(const fs::path& path) {
   return s.str();
 }
 
-// The flat (key, value) pairs of a JSON object as colony writes them
-// (summary.json): nested objects' keys are prefixed "outer.", numbers keep
-// their text, strings are unescaped.
-class JsonReader {
- public:
-  explicit JsonReader(const std::string& text) : text_(text) {}
-  std::optional<Row> Read() {
-    Row out;
-    if (!Object("", out)) return std::nullopt;
-    return out;
-  }
-
- private:
-  void Space() {
-    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
-  }
-  bool Eat(char c) {
-    Space();
-    if (pos_ >= text_.size() || text_[pos_] != c) return false;
-    ++pos_;
-    return true;
-  }
-  bool String(std::string& out) {
-    if (!Eat('"')) return false;
-    for (; pos_ < text_.size() && text_[pos_] != '"'; ++pos_) {
-      if (text_[pos_] != '\\') {
-        out += text_[pos_];
-        continue;
-      }
-      if (++pos_ >= text_.size()) return false;
-      if (text_[pos_] == 'u' && pos_ + 4 < text_.size()) {
-        out += static_cast<char>(std::strtol(text_.substr(pos_ + 1, 4).c_str(), nullptr, 16));
-        pos_ += 4;
-      } else {
-        out += text_[pos_];
-      }
+// A JSON value as a results.csv field: strings unquoted, null empty,
+// whole numbers without a decimal point (10, not 10.0), others in the
+// shortest form that reads back the same.
+std::string FieldText(const nlohmann::json& v) {
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_null()) return "";
+  if (v.is_number_float()) {
+    const double d = v.get<double>();
+    if (d == std::floor(d) && std::fabs(d) < 1e15) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.0f", d);
+      return text;
     }
-    return Eat('"');
   }
-  bool Object(const std::string& prefix, Row& out) {
-    if (!Eat('{')) return false;
-    if (Eat('}')) return true;
-    do {
-      std::string key;
-      if (!String(key) || !Eat(':')) return false;
-      Space();
-      if (pos_ < text_.size() && text_[pos_] == '{') {
-        if (!Object(prefix + key + ".", out)) return false;
-        continue;
-      }
-      std::string value;
-      if (pos_ < text_.size() && text_[pos_] == '"') {
-        if (!String(value)) return false;
-      } else {
-        const size_t end = text_.find_first_of(",}", pos_);
-        if (end == std::string::npos) return false;
-        value = text_.substr(pos_, text_.find_last_not_of(" \t\r\n", end - 1) + 1 - pos_);
-        pos_ = end;
-        if (value == "null") value.clear();
-      }
-      out.emplace_back(prefix + key, value);
-    } while (Eat(','));
-    return Eat('}');
-  }
-
-  const std::string& text_;
-  size_t pos_ = 0;
-};
+  return v.dump();
+}
 
 // The header and last complete row of metrics.csv, if it has one.
 std::optional<std::pair<std::vector<std::string>, std::vector<std::string>>> LastMetricsRow(
@@ -152,15 +103,12 @@ void AddMetric(Row& row, const std::string& name, const std::string& value) {
 void AddRunOutput(Row& row, const fs::path& run_dir, bool completed) {
   for (const char* c : kSummaryColumns) row.emplace_back(c, "");
   if (completed) {
-    const auto summary = JsonReader(ReadText(run_dir / "summary.json")).Read();
-    for (const auto& [key, value] : summary.value_or(Row{})) {
-      if (key.rfind("metrics.", 0) == 0) {
-        AddMetric(row, key.substr(8), value);
-      } else if (std::find(std::begin(kSummaryColumns), std::end(kSummaryColumns), key) !=
-                 std::end(kSummaryColumns)) {
-        Set(row, key, value);
-      }
+    // MakeRow has checked that it parses and has every key.
+    const auto summary = nlohmann::ordered_json::parse(ReadText(run_dir / "summary.json"));
+    for (const char* c : kSummaryColumns) {
+      if (summary.contains(c)) Set(row, c, FieldText(summary[c]));
     }
+    for (const auto& [name, value] : summary["metrics"].items()) AddMetric(row, name, FieldText(value));
     return;
   }
   const auto last = LastMetricsRow(run_dir / "metrics.csv");
@@ -245,10 +193,14 @@ std::string RunDir(const std::string& dir, const RunSpec& run) {
 
 Row MakeRow(const Grid& grid, const RunSpec& run, const RunEnd& end, const std::string& run_dir) {
   RunEnd result = end;
-  const bool completed = fs::exists(fs::path(run_dir) / "summary.json");
+  // Finished means a summary that parses, has every key and says completed.
+  const fs::path summary_file = fs::path(run_dir) / "summary.json";
+  const std::string problem =
+      fs::exists(summary_file) ? SummaryProblem(ReadText(summary_file)) : "there is no summary.json";
+  const bool completed = problem.empty();
   if (result.status == RunEnd::Status::kOk && !completed) {
     result = {RunEnd::Status::kFailed, end.wall_seconds,
-              "exited with status 0 but wrote no summary.json"};
+              "exited with status 0 but is not a finished run: " + problem};
   }
   Row row{{"run", run.name}};
   for (size_t k = 0; k < grid.params.size(); ++k) {

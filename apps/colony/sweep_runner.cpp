@@ -30,7 +30,12 @@ struct Running {
   size_t index = 0;
   Clock::time_point start;
   bool timed_out = false;
+  Clock::time_point kill_at;  // after a timeout: SIGKILL if still running then
 };
+
+// After its timeout a run gets SIGTERM (it stops after the current tick and
+// writes what it has), then SIGKILL if it is still running this much later.
+constexpr std::chrono::seconds kTimeoutGrace(2);
 
 // Blocks SIGCHLD and the interrupting signals while alive, so the loop waits
 // for them with sigtimedwait (no handlers, no races); children get the mask
@@ -50,7 +55,8 @@ class BlockedSignals {
   sigset_t set_, old_;
 };
 
-// The command line of one run.
+// The command line of one run. --overwrite: the folder holds the run's log,
+// and a run tried again replaces what the last try left.
 std::vector<std::string> RunArgs(const Grid& grid, const RunSpec& run,
                                  const RunnerOptions& options) {
   std::vector<std::string> args{options.exe, "run", grid.experiment};
@@ -59,7 +65,7 @@ std::vector<std::string> RunArgs(const Grid& grid, const RunSpec& run,
     args.push_back(grid.params[k].path + "=" + run.values[k]);
   }
   args.insert(args.end(),
-              {"--seed", std::to_string(run.seed), "--out", RunDir(options.dir, run), "--quiet"});
+              {"--seed", std::to_string(run.seed), "--out", RunDir(options.dir, run), "--overwrite", "--quiet"});
   if (options.threads) args.insert(args.end(), {"--threads", std::to_string(*options.threads)});
   return args;
 }
@@ -120,7 +126,7 @@ RunEnd EndOf(const Running& r, int wait_status, const RunnerOptions& options,
   if (r.timed_out) {
     end.status = RunEnd::Status::kTimeout;
     char text[96];
-    std::snprintf(text, sizeof text, "killed after the timeout of %g s", *options.timeout);
+    std::snprintf(text, sizeof text, "stopped after the timeout of %g s", *options.timeout);
     end.detail = text;
     return end;
   }
@@ -230,17 +236,23 @@ RunnerTotals RunAll(const Grid& grid, const std::vector<size_t>& pending, size_t
       fs::create_directories(dir);
       const auto start = Clock::now();
       running.push_back(
-          {Spawn(RunArgs(grid, run, options), dir + "/run.log", signals.old()), run.index, start});
+          {Spawn(RunArgs(grid, run, options), dir + "/run.log", signals.old()), run.index, start, false, {}});
     }
     // Kill the runs past their timeout (their end is recorded when reaped).
     auto wait = std::chrono::milliseconds(100);
     for (auto& r : running) {
-      if (!options.timeout || r.timed_out) continue;
+      if (!options.timeout) continue;
+      if (r.timed_out) {
+        if (Clock::now() >= r.kill_at) KillGroup(r.pid);
+        continue;
+      }
       const auto deadline = r.start + std::chrono::duration_cast<Clock::duration>(
                                           std::chrono::duration<double>(*options.timeout));
       if (Clock::now() >= deadline) {
-        KillGroup(r.pid);
+        kill(-r.pid, SIGTERM);
+        kill(r.pid, SIGTERM);
         r.timed_out = true;
+        r.kill_at = Clock::now() + kTimeoutGrace;
       } else {
         wait =
             std::min(wait, std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now()));

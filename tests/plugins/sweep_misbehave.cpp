@@ -1,10 +1,13 @@
-// A test-only controller for the sweep tests: at its first control step it
-// appends a line to params count_file (if given), so a test can count how
-// often runs really ran; then, from tick params at (default 1) on, it does
-// what params mode says: "none" (nothing), "crash" (abort) or "hang" (wait
-// forever).
+// A test-only controller for the sweep and reliability tests: at its first
+// control step it appends a line to params count_file (if given), so a test
+// can count how often runs really ran; then, from tick params at (default 1)
+// on, it does what params mode says: "none" (nothing), "crash" (abort),
+// "hang" (wait forever), "segfault" (writes through a null pointer),
+// "throw_int" (throws an int, not a std::exception) or "slow" (sleeps a
+// millisecond every step, so a test can interrupt a run part-way).
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <string>
@@ -29,6 +32,12 @@ class SweepMisbehave : public colony::Controller {
     if (mode_ == "hang") {
       for (;;) pause();
     }
+    if (mode_ == "segfault") {
+      volatile int* volatile nowhere = nullptr;
+      *nowhere = 1;
+    }
+    if (mode_ == "throw_int") throw 42;
+    if (mode_ == "slow") usleep(1000);
   }
 
  private:
@@ -38,7 +47,8 @@ class SweepMisbehave : public colony::Controller {
 
 COLONY_REGISTER_CONTROLLER(
     SweepMisbehave, "sweep_misbehave",
-    "test only: crashes or hangs on demand; params mode (none, crash, hang), at (tick), "
+    "test only: crashes or hangs on demand; params mode (none, crash, hang, segfault, throw_int, "
+    "slow), at (tick), "
     "count_file (a line appended per run)");
 
 }  // namespace
