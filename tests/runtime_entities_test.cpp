@@ -71,3 +71,26 @@ TEST(RuntimeEntities, BadAddedEntityIsRejectedWithAMessage) {
 
 }  // namespace
 }  // namespace colony
+
+namespace {
+
+// The per-phase profile adds up the ticks run and puts time where the work is.
+TEST(StepProfile, CountsTicksAndTimesEveryPhase) {
+  colony::ExperimentOptions options;
+  options.file = COLONY_SOURCE_DIR "/experiments/diffusion.xml";
+  auto sim = colony::Simulation::Load(options);
+  for (int i = 0; i < 20; ++i) sim->Step();
+  const colony::StepProfile& p = sim->profile();
+  EXPECT_EQ(p.ticks, 20u);
+  EXPECT_GT(p.physics, 0);
+  EXPECT_GT(p.sense_control, 0);
+  EXPECT_GE(p.act, 0);
+  EXPECT_GE(p.media, 0);
+  EXPECT_GT(p.loop_functions, 0);  // diffusion_metrics runs every tick
+  EXPECT_DOUBLE_EQ(p.total(), p.act + p.physics + p.media + p.loop_functions + p.sense_control);
+  sim->ResetProfile();
+  EXPECT_EQ(sim->profile().ticks, 0u);
+  EXPECT_EQ(sim->profile().total(), 0);
+}
+
+}  // namespace

@@ -22,11 +22,15 @@
 // threads wait, or when other programs take the cores) and per robot-step,
 // which is steadier than wall time on a shared machine.
 //
+// It prints each phase's share of the step time (Simulation::profile: act,
+// physics, media, loop functions, sense + control).
+//
 // Prints one line per repetition, the medians, and one machine-readable line
 // per scene:
 //   RESULT scene=NAME robots=N threads=T ticks=K steps_per_s_median=...
 //          load_s_median=... bytes_per_robot=... load_bytes_per_robot=...
-//          cpu_ns_per_robot_step=... state_hash=...
+//          cpu_ns_per_robot_step=... state_hash=... act_pct=... physics_pct=...
+//          media_pct=... loop_functions_pct=... sense_control_pct=...
 // (threads as resolved: 0 and 1 both mean the calling thread only; the state
 // hash is that of the first repetition, and a warning is printed if the
 // repetitions disagree.)
@@ -165,6 +169,7 @@ struct Repetition {
   uint64_t ticks = 0;
   uint64_t hash = 0;
   bool peak_reset = true;
+  colony::StepProfile profile;
 };
 
 // Loads and runs `file` once.
@@ -190,6 +195,7 @@ Repetition RunOnce(const Options& o, const std::string& file, bool first) {
     throw UsageError(file + ": the experiment has no length (unlimited); give --ticks T");
   }
   double robot_ticks = 0;
+  sim->ResetProfile();
   const double cpu0 = CpuSeconds();
   for (uint64_t t = 0; t < ticks; ++t) {
     const auto s0 = Clock::now();
@@ -205,6 +211,7 @@ Repetition RunOnce(const Options& o, const std::string& file, bool first) {
   r.threads = sim->threads();
   r.steps_per_s = r.step_s > 0 ? robot_ticks / r.step_s : 0;
   r.hash = sim->StateHash();
+  r.profile = sim->profile();
   const long long peak = PeakBytes();
   const double robots = static_cast<double>(std::max<size_t>(r.robots, 1));
   r.bytes_per_robot = static_cast<double>(peak - peak0) / robots;
@@ -239,6 +246,18 @@ int Bench(const Options& o) {
       lbpr.push_back(r.load_bytes_per_robot);
       same_hash = same_hash && r.hash == reps.front().hash;
     }
+    // Where a tick's time goes: each phase's share, medians over repetitions.
+    const char* phases[] = {"act", "physics", "media", "loop_functions", "sense_control"};
+    std::vector<double> share[5];
+    for (const auto& r : reps) {
+      const colony::StepProfile& p = r.profile;
+      const double total = std::max(p.total(), 1e-12);
+      const double parts[5] = {p.act, p.physics, p.media, p.loop_functions, p.sense_control};
+      for (int i = 0; i < 5; ++i) share[i].push_back(100 * parts[i] / total);
+    }
+    std::printf("%s step profile (median share of step time):", scene.c_str());
+    for (int i = 0; i < 5; ++i) std::printf(" %s %.1f%%", phases[i], Median(share[i]));
+    std::printf("\n");
     const Repetition& first = reps.front();
     std::printf(
         "%s median of %zu: %.0f robot-steps/s, load %.3f s, peak %.0f B/robot, load growth %.0f "
@@ -248,10 +267,12 @@ int Bench(const Options& o) {
     std::printf(
         "RESULT scene=%s robots=%zu threads=%d ticks=%llu steps_per_s_median=%.0f "
         "load_s_median=%.3f "
-        "bytes_per_robot=%.0f load_bytes_per_robot=%.0f cpu_ns_per_robot_step=%.0f state_hash=%s\n",
+        "bytes_per_robot=%.0f load_bytes_per_robot=%.0f cpu_ns_per_robot_step=%.0f state_hash=%s "
+        "act_pct=%.1f physics_pct=%.1f media_pct=%.1f loop_functions_pct=%.1f sense_control_pct=%.1f\n",
         scene.c_str(), first.robots, first.threads, static_cast<unsigned long long>(first.ticks),
         Median(sps), Median(load), Median(bpr), Median(lbpr), Median(cpu_ns),
-        colony::StateHasher::Hex(first.hash).c_str());
+        colony::StateHasher::Hex(first.hash).c_str(), Median(share[0]), Median(share[1]), Median(share[2]),
+        Median(share[3]), Median(share[4]));
     std::fflush(stdout);
   }
   return 0;
