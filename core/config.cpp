@@ -11,21 +11,6 @@ namespace colony {
 
 namespace {
 
-std::string FormatNumber(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-std::string JoinQuoted(const std::vector<std::string>& items) {
-  std::string out;
-  for (size_t i = 0; i < items.size(); ++i) {
-    if (i) out += ", ";
-    out += items[i];
-  }
-  return out;
-}
-
 // "a whole number in [0, 256]", or "a whole number >= 0" when unbounded above.
 std::string DescribeWholeRange(int64_t min, int64_t max) {
   if (max == std::numeric_limits<int64_t>::max()) return "a whole number >= " + std::to_string(min);
@@ -58,21 +43,6 @@ bool ParseFiniteDouble(std::string_view text, double& out) {
   if (*end != '\0' || errno == ERANGE || !std::isfinite(v)) return false;
   out = v;
   return true;
-}
-
-std::vector<std::string> SplitList(std::string_view text, char separator) {
-  std::vector<std::string> parts;
-  size_t start = 0;
-  while (true) {
-    const size_t end = text.find(separator, start);
-    std::string_view part = text.substr(start, end == std::string_view::npos ? text.npos : end - start);
-    while (!part.empty() && part.front() == ' ') part.remove_prefix(1);
-    while (!part.empty() && part.back() == ' ') part.remove_suffix(1);
-    parts.emplace_back(part);
-    if (end == std::string_view::npos) break;
-    start = end + 1;
-  }
-  return parts;
 }
 
 std::string ConfigNode::name() const { return element_ ? element_->Name() : ""; }
@@ -254,7 +224,7 @@ std::string ConfigNode::GetChoice(std::string_view attribute, const std::vector<
   for (const auto& c : choices) {
     if (c == raw) return c;
   }
-  std::string message = "'" + std::string(raw) + "' is not accepted; accepted: " + JoinQuoted(choices);
+  std::string message = "'" + std::string(raw) + "' is not accepted; accepted: " + Join(choices);
   const std::string guess = DidYouMean(raw, choices);
   if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
   Error(attribute, raw, message);
@@ -302,7 +272,7 @@ void ConfigNode::CheckAttributes(const std::vector<std::string>& allowed) const 
     const std::string guess = DidYouMean(a->Name(), allowed);
     if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
     message += allowed.empty() ? "; this element takes no attributes"
-                               : "; accepted: " + JoinQuoted(allowed);
+                               : "; accepted: " + Join(allowed);
     Error(a->Name(), a->Value(), message);
   }
 }
@@ -316,7 +286,7 @@ void ConfigNode::CheckChildren(const std::vector<std::string>& allowed) const {
     std::string message = "unknown element inside <" + name() + ">";
     const std::string guess = DidYouMean(n, allowed);
     if (!guess.empty()) message += " (did you mean <" + guess + ">?)";
-    message += allowed.empty() ? "; it takes no child elements" : "; accepted: " + JoinQuoted(allowed);
+    message += allowed.empty() ? "; it takes no child elements" : "; accepted: " + Join(allowed);
     child.ElementError(message);
   }
 }

@@ -14,6 +14,7 @@
 #include "core/color.h"
 #include "core/control_interface.h"
 #include "core/error.h"
+#include "core/text.h"
 
 namespace tinyxml2 {
 class XMLElement;
@@ -101,8 +102,6 @@ class ConfigNode {
   ConfigContext* context_ = nullptr;
 };
 
-// Splits "a,b,c" into trimmed parts.
-std::vector<std::string> SplitList(std::string_view text, char separator = ',');
 // A finite number, or false.
 bool ParseFiniteDouble(std::string_view text, double& out);
 

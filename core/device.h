@@ -12,6 +12,7 @@
 #include "core/control_interface.h"
 #include "core/noise.h"
 #include "core/registry.h"
+#include "core/simulation_bound.h"
 #include "core/space.h"
 
 namespace colony {
@@ -56,7 +57,7 @@ class InstanceStore {
   std::deque<Instance> items_;
 };
 
-class SensorSystem {
+class SensorSystem : public SimulationBound {
  public:
   virtual ~SensorSystem() = default;
   // Reads the sensor's element in a controller's <sensors>.
@@ -69,17 +70,9 @@ class SensorSystem {
   virtual void Update(size_t begin, size_t end) = 0;
   // Adds what controllers read to the state hash.
   virtual void Hash(StateHasher& h) const { (void)h; }
-
-  void Bind(Simulation* sim) { sim_ = sim; }
-
- protected:
-  Simulation& sim() const { return *sim_; }
-
- private:
-  Simulation* sim_ = nullptr;
 };
 
-class ActuatorSystem {
+class ActuatorSystem : public SimulationBound {
  public:
   virtual ~ActuatorSystem() = default;
   virtual void Configure(const ConfigNode& node) = 0;
@@ -88,14 +81,6 @@ class ActuatorSystem {
   virtual size_t size() const = 0;
   // Writes the commands of instances [begin, end) into the space.
   virtual void Act(size_t begin, size_t end) = 0;
-
-  void Bind(Simulation* sim) { sim_ = sim; }
-
- protected:
-  Simulation& sim() const { return *sim_; }
-
- private:
-  Simulation* sim_ = nullptr;
 };
 
 }  // namespace colony

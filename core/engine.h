@@ -15,6 +15,7 @@
 #include "core/config.h"
 #include "core/region.h"
 #include "core/registry.h"
+#include "core/simulation_bound.h"
 #include "core/space.h"
 
 namespace colony {
@@ -27,7 +28,7 @@ class PhysicsModel {
   virtual ~PhysicsModel() = default;
 };
 
-class PhysicsEngine {
+class PhysicsEngine : public NamedSimulationBound {
  public:
   virtual ~PhysicsEngine() = default;
 
@@ -50,14 +51,6 @@ class PhysicsEngine {
   // Advances the owned entities by dt seconds.
   virtual void Step(double dt) = 0;
 
-  // For the host.
-  void Bind(Simulation* sim, std::string id, std::string label) {
-    sim_ = sim;
-    id_ = std::move(id);
-    label_ = std::move(label);
-  }
-  const std::string& id() const { return id_; }
-  const std::string& label() const { return label_; }
   // The region it simulates; none: the whole arena.
   const std::optional<Region>& region() const { return region_; }
   void SetRegion(Region region) { region_ = std::move(region); }
@@ -69,14 +62,14 @@ class PhysicsEngine {
     owned_[s] = owned;
   }
 
- protected:
-  Simulation& sim() const { return *sim_; }
-
  private:
-  Simulation* sim_ = nullptr;
-  std::string id_, label_;
   std::optional<Region> region_;
   std::vector<uint8_t> owned_;  // per space slot
 };
+
+// The engine as messages name it: "kinematics2d 'k2d'" ("none" for null).
+inline std::string EngineName(const PhysicsEngine* engine) {
+  return engine ? engine->label() + " '" + engine->id() + "'" : "none";
+}
 
 }  // namespace colony

@@ -23,18 +23,6 @@ const std::vector<std::string> kTopLevel = {"framework",       "controllers", "l
                                             "arena",           "physics_engines", "media",
                                             "visualization",   "output"};
 
-std::string FormatNumber(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-std::string Join(const std::vector<std::string>& items) {
-  std::string out;
-  for (size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + items[i];
-  return out;
-}
-
 // Whether `parent` holds a misspelling of `name`, already reported as an
 // unknown element (so "missing <name>" would only repeat it).
 bool HasMisspelt(const ConfigNode& parent, const std::string& name) {

@@ -5,12 +5,13 @@
 
 #include "core/control_interface.h"
 #include "core/registry.h"
+#include "core/simulation_bound.h"
 
 namespace colony {
 
 class Simulation;
 
-class LoopFunctions {
+class LoopFunctions : public SimulationBound {
  public:
   virtual ~LoopFunctions() = default;
   // Called once after the arena is built, with the <loop_functions> params.
@@ -20,14 +21,6 @@ class LoopFunctions {
   // Ends the run early when true.
   virtual bool IsExperimentFinished() { return false; }
   virtual void Destroy() {}
-
-  void Bind(Simulation* sim) { sim_ = sim; }
-
- protected:
-  Simulation& sim() const { return *sim_; }
-
- private:
-  Simulation* sim_ = nullptr;
 };
 
 }  // namespace colony

@@ -10,12 +10,13 @@
 
 #include "core/config.h"
 #include "core/registry.h"
+#include "core/simulation_bound.h"
 
 namespace colony {
 
 class Simulation;
 
-class Medium {
+class Medium : public NamedSimulationBound {
  public:
   virtual ~Medium() = default;
   // Reads the medium's element (attributes already checked against the
@@ -25,22 +26,6 @@ class Medium {
   // during this tick's act step. Called once per tick, from the main thread,
   // after physics and the space's index; it may use sim().pool().
   virtual void Update() = 0;
-
-  // For the host.
-  void Bind(Simulation* sim, std::string id, std::string label) {
-    sim_ = sim;
-    id_ = std::move(id);
-    label_ = std::move(label);
-  }
-  const std::string& id() const { return id_; }
-  const std::string& label() const { return label_; }
-
- protected:
-  Simulation& sim() const { return *sim_; }
-
- private:
-  Simulation* sim_ = nullptr;
-  std::string id_, label_;
 };
 
 // COLONY_REGISTER_MEDIUM(MyMedium, "label", "summary", {{"attribute", "accepted", "default", "doc"}});

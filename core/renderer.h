@@ -10,6 +10,7 @@
 
 #include "core/config.h"
 #include "core/registry.h"
+#include "core/simulation_bound.h"
 
 namespace colony {
 
@@ -23,7 +24,7 @@ struct FrameSeries {
   double frames_per_second = 0;  // of simulated time
 };
 
-class Renderer {
+class Renderer : public SimulationBound {
  public:
   virtual ~Renderer() = default;
   // Reads the renderer's element (attributes already checked against the
@@ -36,17 +37,11 @@ class Renderer {
   virtual void Finish() {}
   virtual std::vector<FrameSeries> frame_series() const { return {}; }
 
-  // For the host.
-  void Bind(Simulation* sim) { sim_ = sim; }
   // Where frames go; set by the host before the first tick.
   void set_output_dir(std::string dir) { output_dir_ = std::move(dir); }
   const std::string& output_dir() const { return output_dir_; }
 
- protected:
-  Simulation& sim() const { return *sim_; }
-
  private:
-  Simulation* sim_ = nullptr;
   std::string output_dir_;
 };
 

@@ -55,6 +55,7 @@
 #include "core/log.h"
 #include "core/simulation.h"
 #include "core/state_hash.h"
+#include "core/text.h"
 
 namespace {
 
@@ -72,13 +73,9 @@ struct UsageError : std::runtime_error {
 
 long long ParseWhole(const std::string& option, const std::string& text, long long min,
                      long long max) {
-  char* end = nullptr;
-  errno = 0;
-  const long long v = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || errno == ERANGE || v < min || v > max) {
-    throw UsageError(option + ": '" + text + "' is not accepted; expected a whole number in [" +
-                     std::to_string(min) + ", " + std::to_string(max) + "]");
-  }
+  long long v = 0;
+  const std::string problem = colony::ParseWholeOption(option, text, min, max, v);
+  if (!problem.empty()) throw UsageError(problem);
   return v;
 }
 

@@ -26,17 +26,6 @@ struct ManipulatorInstance : ManipulatorActuator, InstanceBase {
   }
 };
 
-std::string FormatNumber(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-// The engine as attach messages name it: "kinematics2d 'k2d'".
-std::string EngineName(const PhysicsEngine* engine) {
-  return engine ? engine->label() + " '" + engine->id() + "'" : "none";
-}
-
 class ManipulatorSystem : public ActuatorSystem {
  public:
   void Configure(const ConfigNode& node) override {

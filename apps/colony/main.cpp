@@ -28,6 +28,7 @@
 #include "core/plugin_loader.h"
 #include "core/registry.h"
 #include "core/simulation.h"
+#include "core/text.h"
 
 namespace {
 
@@ -57,13 +58,9 @@ struct UsageError : std::runtime_error {
 };
 
 long long ParseWhole(const std::string& option, const std::string& text, long long min, long long max) {
-  char* end = nullptr;
-  errno = 0;
-  const long long v = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || errno == ERANGE || v < min || v > max) {
-    throw UsageError(option + ": '" + text + "' is not accepted; expected a whole number in [" + std::to_string(min) +
-                     ", " + std::to_string(max) + "]");
-  }
+  long long v = 0;
+  const std::string problem = colony::ParseWholeOption(option, text, min, max, v);
+  if (!problem.empty()) throw UsageError(problem);
   return v;
 }
 
@@ -99,16 +96,6 @@ class Progress {
   bool enabled_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
 };
-
-// Whether an executable `program` is on the PATH.
-bool OnPath(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  if (!path) return false;
-  for (const auto& dir : colony::SplitList(path, ':')) {
-    if (!dir.empty() && access((dir + "/" + program).c_str(), X_OK) == 0) return true;
-  }
-  return false;
-}
 
 // Runs ffmpeg over each camera's frames: `video` itself for one camera,
 // NAME_CAMERA.EXT for several. Returns the files made.
@@ -184,7 +171,7 @@ int Run(const std::vector<std::string>& args) {
   if (options.file.empty()) throw UsageError("colony run needs an experiment file");
   if (quiet) colony::SetLogLevel(colony::LogLevel::kError);
   // Decided before running: a long run should not end without its video.
-  if (!video.empty() && !OnPath("ffmpeg")) {
+  if (!video.empty() && !colony::OnPath("ffmpeg")) {
     throw UsageError(
         "--video needs ffmpeg, which is not installed (no 'ffmpeg' on the PATH); install it "
         "(Debian: apt-get install ffmpeg), or use --frames DIR and assemble the PNG frames "

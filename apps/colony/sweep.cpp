@@ -60,12 +60,9 @@ struct MpiPlace {
 };
 
 int ParseWhole(const std::string& option, const std::string& text, int min, int max) {
-  char* end = nullptr;
-  const long v = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || v < min || v > max) {
-    throw UsageError(option + ": '" + text + "' is not accepted; expected a whole number in [" +
-                     std::to_string(min) + ", " + std::to_string(max) + "]");
-  }
+  long long v = 0;
+  const std::string problem = ParseWholeOption(option, text, min, max, v);
+  if (!problem.empty()) throw UsageError(problem);
   return static_cast<int>(v);
 }
 

@@ -20,6 +20,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/text.h"
+
 namespace colony::sweep {
 
 // `colony sweep ...`: returns the exit status (0 ok, 2 bad input, 1 failure).

@@ -20,21 +20,6 @@ namespace {
 
 constexpr size_t kMaxSeeds = 10'000'000;
 
-std::string Trim(const std::string& s) {
-  const size_t begin = s.find_first_not_of(" \t");
-  if (begin == std::string::npos) return "";
-  return s.substr(begin, s.find_last_not_of(" \t") - begin + 1);
-}
-
-std::vector<std::string> Split(const std::string& text, char separator) {
-  std::vector<std::string> parts;
-  std::string part;
-  std::istringstream in(text);
-  while (std::getline(in, part, separator)) parts.push_back(Trim(part));
-  if (!text.empty() && text.back() == separator) parts.push_back("");
-  return parts;
-}
-
 // A whole number in [0, max] or UsageError naming `what`.
 uint64_t ParseCount(const std::string& what, const std::string& text, uint64_t max) {
   char* end = nullptr;
@@ -125,7 +110,7 @@ std::string Slice::ToString() const {
 
 std::vector<std::string> ParseValueList(const std::string& what, const std::string& text) {
   if (Trim(text).empty()) throw UsageError(what + ": empty value list");
-  const auto values = Split(text, text.find(';') != std::string::npos ? ';' : ',');
+  const auto values = SplitList(text, text.find(';') != std::string::npos ? ';' : ',');
   std::set<std::string> seen;
   for (const auto& v : values) {
     if (v.empty()) throw UsageError(what + ": empty value in '" + text + "'");
@@ -151,7 +136,7 @@ std::vector<uint64_t> ParseSeeds(const std::string& text) {
   if (Trim(text).empty()) throw UsageError(what + ": empty seed list");
   std::vector<uint64_t> seeds;
   std::set<uint64_t> seen;
-  for (const auto& item : Split(text, ',')) {
+  for (const auto& item : SplitList(text, ',')) {
     if (item.empty()) throw UsageError(what + ": empty item; expected e.g. 1..30, 1,2,5 or 1..3,7");
     const size_t dots = item.find("..");
     const uint64_t first = ParseCount(what, item.substr(0, dots), INT64_MAX);

@@ -172,15 +172,6 @@ void WriteSummary(const std::string& dir, const Table& t, const std::vector<Grou
   WriteAtomically((fs::path(dir) / "summary.csv").string(), text);
 }
 
-bool OnPath(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  std::istringstream dirs(path ? path : "");
-  for (std::string d; std::getline(dirs, d, ':');) {
-    if (!d.empty() && access((fs::path(d) / program).c_str(), X_OK) == 0) return true;
-  }
-  return false;
-}
-
 std::string GnuplotQuote(const std::string& s) {
   std::string out = "'";
   for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);

@@ -19,7 +19,7 @@
 
 #include "actuators/leds/leds.h"
 #include "actuators/range_and_bearing/range_and_bearing.h"
-#include "controllers/flocking/steering.h"
+#include "controllers/common/steering.h"
 #include "core/registry.h"
 #include "sensors/range_and_bearing/range_and_bearing.h"
 

@@ -15,7 +15,7 @@
 //   - avoidance: -`avoidance` x the proximity ring's vector (walls, objects,
 //     robots within 10 cm).
 // It drives at `velocity`, turning in proportion to the angle of that sum
-// (controllers/flocking/steering.h).
+// (controllers/common/steering.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -23,7 +23,7 @@
 #include <string>
 
 #include "actuators/range_and_bearing/range_and_bearing.h"
-#include "controllers/flocking/steering.h"
+#include "controllers/common/steering.h"
 #include "core/registry.h"
 #include "sensors/positioning/positioning.h"
 #include "sensors/range_and_bearing/range_and_bearing.h"

@@ -5,7 +5,7 @@
 
 #include "actuators/differential_steering/differential_steering.h"
 #include "actuators/leds/leds.h"
-#include "controllers/flocking/steering.h"
+#include "controllers/common/steering.h"
 #include "core/control_interface.h"
 #include "sensors/ground/ground.h"
 #include "sensors/light/light.h"

@@ -12,7 +12,7 @@
 
 #include "core/loop_functions.h"
 #include "core/simulation.h"
-#include "loop_functions/flocking_metrics/groups.h"
+#include "loop_functions/common/groups.h"
 
 namespace colony {
 namespace {

@@ -54,10 +54,6 @@ struct ManipulatorSensorInstance : ManipulatorSensor, InstanceBase {
   std::vector<Reading>& mutable_readings() { return readings_; }
 };
 
-std::string EngineName(const PhysicsEngine* engine) {
-  return engine ? engine->label() + " '" + engine->id() + "'" : "none";
-}
-
 class ManipulatorSensorSystem : public SensorSystem {
  public:
   void Configure(const ConfigNode& node) override {
