@@ -17,6 +17,8 @@
 
 namespace colony {
 
+class PhysicsEngine;
+
 class Simulation;
 
 // A robot cannot carry a device (e.g. it has no proximity ring).
@@ -70,6 +72,14 @@ class SensorSystem : public SimulationBound {
   virtual void Update(size_t begin, size_t end) = 0;
   // Adds what controllers read to the state hash.
   virtual void Hash(StateHasher& h) const { (void)h; }
+  // Why this device cannot work on a robot that `engine` simulates (e.g.
+  // "does not simulate gripping; use dynamics2d"), or "" if it can. The host
+  // asks when it attaches the device and whenever the robot migrates into
+  // another engine's region (core/simulation.cpp: AttachController, Migrate).
+  virtual std::string EngineProblem(const PhysicsEngine& engine) const {
+    (void)engine;
+    return "";
+  }
 };
 
 class ActuatorSystem : public SimulationBound {
@@ -81,6 +91,14 @@ class ActuatorSystem : public SimulationBound {
   virtual size_t size() const = 0;
   // Writes the commands of instances [begin, end) into the space.
   virtual void Act(size_t begin, size_t end) = 0;
+  // Why this device cannot work on a robot that `engine` simulates (e.g.
+  // "does not simulate gripping; use dynamics2d"), or "" if it can. The host
+  // asks when it attaches the device and whenever the robot migrates into
+  // another engine's region (core/simulation.cpp: AttachController, Migrate).
+  virtual std::string EngineProblem(const PhysicsEngine& engine) const {
+    (void)engine;
+    return "";
+  }
 };
 
 }  // namespace colony

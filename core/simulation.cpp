@@ -72,8 +72,16 @@ void Simulation::AttachController(Robot& robot, const ConfigNode& where) {
   robot.actuators = std::make_unique<Actuator*[]>(na);
   const std::string type = space_.TypeLabel(space_.type(robot.entity.index));
   bool attached = true;
+  // The devices' needs of the engine, checked here for every device (and
+  // again in Migrate); the "has no gripper"-kind checks stay in Attach.
+  auto engine_problem = [&](auto* system) -> std::string {
+    const PhysicsEngine* engine = EngineOf(robot.entity);
+    const std::string problem = engine ? system->EngineProblem(*engine) : "";
+    return problem.empty() ? "" : "its physics engine (" + EngineName(engine) + ") " + problem;
+  };
   for (size_t i = 0; i < ns; ++i) {
     try {
+      if (std::string problem = engine_problem(config.sensors[i]); !problem.empty()) throw AttachError(problem);
       robot.sensors[i] = config.sensors[i]->Attach(
           robot.entity, RandomStream::For(seed_, robot.id, "sensor/" + config.sensor_labels[i]));
     } catch (const AttachError& e) {
@@ -85,6 +93,7 @@ void Simulation::AttachController(Robot& robot, const ConfigNode& where) {
   }
   for (size_t i = 0; i < na; ++i) {
     try {
+      if (std::string problem = engine_problem(config.actuators[i]); !problem.empty()) throw AttachError(problem);
       robot.actuators[i] = config.actuators[i]->Attach(
           robot.entity, RandomStream::For(seed_, robot.id, "actuator/" + config.actuator_labels[i]));
     } catch (const AttachError& e) {
@@ -185,6 +194,7 @@ void Simulation::Migrate() {
     const auto& models = models_[space_.type(s)];
     for (size_t e = 0; e < engines_.size(); ++e) {
       if (!models[e] || !engines_[e]->Holds(p)) continue;
+      CheckDevicesCanMigrate(s, from, *engines_[e]);
       const EntityHandle h = space_.HandleOf(s);
       from.RemoveEntity(h);
       from.SetOwned(s, false);
@@ -193,6 +203,27 @@ void Simulation::Migrate() {
       engine_of_[s] = static_cast<int16_t>(e);
       break;
     }
+  }
+}
+
+void Simulation::CheckDevicesCanMigrate(uint32_t slot, const PhysicsEngine& from, const PhysicsEngine& to) const {
+  if (robot_of_[slot] < 0) return;
+  const Robot& robot = robots_[robot_of_[slot]];
+  const ControllerConfig& config = *robot.config;
+  auto refuse = [&](const char* kind, const std::string& label, const std::string& problem) {
+    throw RuntimeFailure("robot '" + robot.id + "' crossed at tick " + std::to_string(tick_ + 1) + " from " +
+                         EngineName(&from) + " into the region of " + EngineName(&to) + ", which cannot simulate its " +
+                         kind + " '" + label + "': " + EngineName(&to) + " " + problem +
+                         "; keep such robots inside the regions of engines that simulate it (walls, or "
+                         "boundaries)");
+  };
+  for (size_t i = 0; i < config.sensors.size(); ++i) {
+    const std::string problem = config.sensors[i]->EngineProblem(to);
+    if (!problem.empty()) refuse("sensor", config.sensor_labels[i], problem);
+  }
+  for (size_t i = 0; i < config.actuators.size(); ++i) {
+    const std::string problem = config.actuators[i]->EngineProblem(to);
+    if (!problem.empty()) refuse("actuator", config.actuator_labels[i], problem);
   }
 }
 

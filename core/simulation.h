@@ -171,6 +171,9 @@ class Simulation {
   // Hands movable entities that left their engine's region to the engine
   // whose region now holds them.
   void Migrate();
+  // Throws RuntimeFailure when a device of the robot in `slot` cannot work
+  // in `to` (see SensorSystem::EngineProblem).
+  void CheckDevicesCanMigrate(uint32_t slot, const PhysicsEngine& from, const PhysicsEngine& to) const;
   void AttachController(Robot& robot, const ConfigNode& where);
   void Act();
   void SenseAndControl();

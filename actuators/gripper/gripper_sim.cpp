@@ -26,14 +26,12 @@ class GripperSystem : public ActuatorSystem {
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
     GripperState* g = sim().space().gripper(robot.index);
     if (!g) throw AttachError("it has no gripper");
-    const PhysicsEngine* engine = sim().EngineOf(robot);
-    if (!engine || !engine->SimulatesGripping()) {
-      throw AttachError("its physics engine (" + (engine ? engine->label() + " '" + engine->id() + "'" : "none") +
-                        ") does not simulate gripping; use dynamics2d");
-    }
     g->turret_speed = turret_speed_;
     g->reach = reach_;
     return &instances_.Add(robot, rng);
+  }
+  std::string EngineProblem(const PhysicsEngine& engine) const override {
+    return engine.SimulatesGripping() ? "" : "does not simulate gripping; use dynamics2d";
   }
   void Detach(Actuator* a) override { instances_.Remove(static_cast<GripperActuator*>(a)); }
   size_t size() const override { return instances_.size(); }

@@ -101,5 +101,35 @@ TEST(Gripper, Kinematics2dRejectsGrippingAtLoadTime) {
   EXPECT_NE(m.find("kinematics2d 'k2d') does not simulate gripping; use dynamics2d"), std::string::npos) << m;
 }
 
+// A gripping robot that drives out of the dynamics2d half of the arena into
+// the kinematics2d half: the run stops with a message naming robot, tick and
+// engines, instead of grips that nothing simulates.
+TEST(Gripper, DrivingIntoAnEngineThatCannotGripStopsTheRun) {
+  auto region = [](const char* x0, const char* x1) {
+    return std::string("<boundaries><top height=\"1\"/><bottom height=\"0\"/><sides size=\"4\">") +
+           "<vertex point=\"" + x0 + ",-2\"/><vertex point=\"" + x1 + ",-2\"/><vertex point=\"" + x1 +
+           ",2\"/><vertex point=\"" + x0 + ",2\"/></sides></boundaries>";
+  };
+  const std::string engines = "<dynamics2d id=\"d2d\">" + region("-2", "0") + "</dynamics2d><kinematics2d id=\"k2d\">" +
+                              region("0", "2") + "</kinematics2d>";
+  auto sim = testing::LoadXml(testing::Experiment(
+      "<marxbot id=\"r\"><body position=\"-0.3,0,0\"/><controller config=\"g\"/></marxbot>", kProbe, "4,4,1", "",
+      engines));
+  GripProbe& probe = Probe(*sim);
+  probe.speed = 0.1;
+  std::string message;
+  try {
+    for (int t = 0; t < 60; ++t) sim->Step();
+  } catch (const RuntimeFailure& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("robot 'r' crossed at tick "), std::string::npos) << message;
+  EXPECT_NE(message.find("from dynamics2d 'd2d' into the region of kinematics2d 'k2d', which cannot simulate its "
+                         "actuator 'gripper': kinematics2d 'k2d' does not simulate gripping"),
+            std::string::npos)
+      << message;
+  EXPECT_LT(At(*sim, "r").x(), 0.1) << "it stopped at the boundary";
+}
+
 }  // namespace
 }  // namespace colony

@@ -52,14 +52,13 @@ class ManipulatorSystem : public ActuatorSystem {
     }
   }
 
+  std::string EngineProblem(const PhysicsEngine& engine) const override {
+    return engine.SimulatesManipulator() ? "" : "does not simulate the manipulator; use dynamics3d";
+  }
+
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
     ManipulatorState* m = sim().space().manipulator(robot.index);
     if (!m) throw AttachError("it has no manipulator; declare the marxbot with manipulator=\"true\"");
-    const PhysicsEngine* engine = sim().EngineOf(robot);
-    if (!engine || !engine->SimulatesManipulator()) {
-      throw AttachError("its physics engine (" + EngineName(engine) +
-                        ") does not simulate the manipulator; use dynamics3d");
-    }
     if (min_elevation_) m->min_elevation = *min_elevation_;
     if (max_elevation_) m->max_elevation = *max_elevation_;
     if (elevation_speed_) m->elevation_speed = *elevation_speed_;

@@ -61,14 +61,13 @@ class ManipulatorSensorSystem : public SensorSystem {
     noise_ = NoiseModel::Read(node);
   }
 
+  std::string EngineProblem(const PhysicsEngine& engine) const override {
+    return engine.SimulatesManipulator() ? "" : "does not simulate the manipulator; use dynamics3d";
+  }
+
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
     if (!sim().space().manipulator(robot.index)) {
       throw AttachError("it has no manipulator; declare the marxbot with manipulator=\"true\"");
-    }
-    const PhysicsEngine* engine = sim().EngineOf(robot);
-    if (!engine || !engine->SimulatesManipulator()) {
-      throw AttachError("its physics engine (" + EngineName(engine) +
-                        ") does not simulate the manipulator; use dynamics3d");
     }
     ManipulatorSensorInstance& s = instances_.Add(robot, rng);
     for (int i = 0; i < kIrCount; ++i) s.mutable_readings().push_back({0.0f, static_cast<float>(IrAngle(i))});
