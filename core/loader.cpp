@@ -11,6 +11,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "core/bounds.h"
 #include "core/geometry2d.h"
 #include "core/plugin_loader.h"
 #include "core/simulation.h"
@@ -222,6 +223,10 @@ void ApplyOverride(tinyxml2::XMLDocument& doc, const std::string& spec, const st
 }
 
 // Placed footprints, to reject entities inside walls or on top of each other.
+// Footprints are filed in the 0.5 m cells of a hash grid they touch, except
+// large ones (walls of a huge arena): those are kept apart in a short list
+// that every query tests, so that no footprint is filed in more than
+// kMaxCellsPerItem cells and the index grows with the entities, not the area.
 class PlacementIndex {
  public:
   explicit PlacementIndex(double cell) : cell_(cell) {}
@@ -235,31 +240,58 @@ class PlacementIndex {
   // A placed solid footprint overlapping `pose`/`g` (only movable ones if
   // `movable_only`), or nullptr.
   const Item* FindOverlap(const Pose& pose, const Geometry& g, bool movable_only) const {
-    const Vec2 half = FootprintHalfExtents(g, pose.orientation);
-    const Vec3& p = pose.position;
-    for (int64_t cy = Cell(p.y() - half.y()); cy <= Cell(p.y() + half.y()); ++cy) {
-      for (int64_t cx = Cell(p.x() - half.x()); cx <= Cell(p.x() + half.x()); ++cx) {
+    auto overlap = [&](uint32_t k) {
+      return (!movable_only || items_[k].movable) && Overlaps(pose, g, items_[k].pose, items_[k].geometry);
+    };
+    const CellSpan span = SpanOf(pose, g);
+    if (span.cells() > kMaxCellsPerItem) {
+      // A query larger than the cells it would visit tests every item.
+      for (uint32_t k = 0; k < items_.size(); ++k) {
+        if (overlap(k)) return &items_[k];
+      }
+      return nullptr;
+    }
+    for (int64_t cy = span.y0; cy <= span.y1; ++cy) {
+      for (int64_t cx = span.x0; cx <= span.x1; ++cx) {
         auto it = cells_.find(Key(cx, cy));
         if (it == cells_.end()) continue;
         for (uint32_t k : it->second) {
-          if (movable_only && !items_[k].movable) continue;
-          if (Overlaps(pose, g, items_[k].pose, items_[k].geometry)) return &items_[k];
+          if (overlap(k)) return &items_[k];
         }
       }
+    }
+    for (uint32_t k : large_) {
+      if (overlap(k)) return &items_[k];
     }
     return nullptr;
   }
   void Insert(const Pose& pose, const Geometry& g, const std::string& id, int line, bool movable) {
     const uint32_t k = static_cast<uint32_t>(items_.size());
     items_.push_back({pose, g, id, line, movable});
-    const Vec2 half = FootprintHalfExtents(g, pose.orientation);
-    const Vec3& p = pose.position;
-    for (int64_t cy = Cell(p.y() - half.y()); cy <= Cell(p.y() + half.y()); ++cy)
-      for (int64_t cx = Cell(p.x() - half.x()); cx <= Cell(p.x() + half.x()); ++cx)
+    const CellSpan span = SpanOf(pose, g);
+    if (span.cells() > kMaxCellsPerItem) {
+      large_.push_back(k);
+      return;
+    }
+    for (int64_t cy = span.y0; cy <= span.y1; ++cy)
+      for (int64_t cx = span.x0; cx <= span.x1; ++cx)
         cells_[Key(cx, cy)].push_back(k);
   }
 
  private:
+  static constexpr double kMaxCellsPerItem = 4096;
+  // The cells [x0, x1] x [y0, y1] a footprint's bounding box touches.
+  struct CellSpan {
+    int64_t x0, y0, x1, y1;
+    double cells() const { return (static_cast<double>(x1 - x0) + 1) * (static_cast<double>(y1 - y0) + 1); }
+  };
+  // Placed footprints lie inside the arena (checked first), so cell indices
+  // stay far within int64 range.
+  CellSpan SpanOf(const Pose& pose, const Geometry& g) const {
+    const Vec2 half = FootprintHalfExtents(g, pose.orientation);
+    const Vec3& p = pose.position;
+    return {Cell(p.x() - half.x()), Cell(p.y() - half.y()), Cell(p.x() + half.x()), Cell(p.y() + half.y())};
+  }
   static bool HeightsOverlap(const Pose& a, const Geometry& ga, const Pose& b, const Geometry& gb) {
     return a.position.z() < b.position.z() + gb.height() && b.position.z() < a.position.z() + ga.height();
   }
@@ -286,6 +318,7 @@ class PlacementIndex {
   double cell_;
   std::vector<Item> items_;
   std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+  std::vector<uint32_t> large_;  // items spanning over kMaxCellsPerItem cells
 };
 
 // One stateless instance per registered entity type.
@@ -931,7 +964,7 @@ void ExperimentLoader::ReadDistribute(const ConfigNode& node) {
   read_generator(pos_node, pos, false);
   read_generator(ori_node, ori, true);
   ent_node.CheckAttributes({"quantity", "max_trials", "base_num"});
-  const int64_t quantity = ent_node.RequireInt("quantity", 1, 10'000'000);
+  const int64_t quantity = ent_node.RequireInt("quantity", 1, kMaxDistributeQuantity);
   const int64_t max_trials = ent_node.GetInt("max_trials", 100, 1, 1'000'000);
   const int64_t base_num = ent_node.GetInt("base_num", 0, 0, INT64_MAX);
   const auto templates = ent_node.Children();
@@ -1007,9 +1040,9 @@ void ExperimentLoader::ReadArena(const ConfigNode& root) {
   // Without a size nothing can be placed; other problems do not stop the
   // entities from being checked, so all are reported together.
   const size_t errors_before = diag().size();
-  const auto size = arena.RequireTriple("size", Range::Positive());
+  const auto size = arena.RequireTriple("size", {0, kMaxArenaExtent, true});
   const auto s = Vec3(size[0], size[1], size[2]);
-  const auto c = arena.GetTriple("center", {0, 0, size[2] / 2});
+  const auto c = arena.GetTriple("center", {0, 0, size[2] / 2}, Range::Between(-kMaxArenaExtent, kMaxArenaExtent));
   const Vec3 center(c[0], c[1], c[2]);
   if (diag().size() != errors_before) return;
   sim_.space_.SetArena(center, s);
@@ -1019,7 +1052,13 @@ void ExperimentLoader::ReadArena(const ConfigNode& root) {
   if (const ConfigNode floor = arena.Child("floor"); floor.valid()) {
     floor.CheckAttributes({"id", "color", "source", "path"});
     floor.CheckChildren({"ditch"});
-    for (const ConfigNode& d : floor.Children()) {
+    const auto ditches = floor.Children("ditch");
+    const bool too_many = static_cast<int64_t>(ditches.size()) > kMaxDitches;
+    if (too_many) {
+      ditches[kMaxDitches].ElementError("the floor has " + std::to_string(ditches.size()) + " ditches; accepted: at most " +
+                                        std::to_string(kMaxDitches) + " <ditch> elements (join neighbouring ones)");
+    }
+    for (const ConfigNode& d : too_many ? std::vector<ConfigNode>{} : floor.Children()) {
       d.CheckAttributes({"center", "size", "depth"});
       d.CheckChildren({});
       const size_t before = diag().size();
