@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 namespace colony {
 
@@ -46,5 +47,21 @@ inline double CappedCellSize(double wx, double wy, double cell, double max_cells
   while (cells(c) > max_cells) c *= 1.0625;
   return c;
 }
+
+// Rough memory the simulation holds per entity once loaded (bytes): the
+// space's arrays, the engine's and the spatial indexes' entries, and for a
+// robot its controller and its devices' ordinary state (docs/benchmarks.md
+// measures 1.5 to 4.6 kB per marXbot with kinematics2d). Devices holding
+// more per robot (a camera's image) add their own figure: BytesPerRobot in
+// core/device.h.
+constexpr uint64_t kEstimatedBytesPerRobot = 4096;
+constexpr uint64_t kEstimatedBytesPerEntity = 1024;
+
+// The memory this process may use: the machine's physical memory, or the
+// control group's limit when that is lower (bytes).
+uint64_t AvailableMemoryBytes();
+
+// "12.3 GB".
+std::string FormatBytes(double bytes);
 
 }  // namespace colony

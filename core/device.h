@@ -69,6 +69,10 @@ class SensorSystem {
   virtual void Update(size_t begin, size_t end) = 0;
   // Adds what controllers read to the state hash.
   virtual void Hash(StateHasher& h) const { (void)h; }
+  // Memory one robot's instance holds beyond a few hundred bytes (an image,
+  // a scan), in bytes: the loader adds it to its memory estimate before
+  // creating robots (core/bounds.h).
+  virtual size_t BytesPerRobot() const { return 0; }
 
   void Bind(Simulation* sim) { sim_ = sim; }
 
@@ -88,6 +92,8 @@ class ActuatorSystem {
   virtual size_t size() const = 0;
   // Writes the commands of instances [begin, end) into the space.
   virtual void Act(size_t begin, size_t end) = 0;
+  // As SensorSystem::BytesPerRobot (a message payload, its copies in a medium).
+  virtual size_t BytesPerRobot() const { return 0; }
 
   void Bind(Simulation* sim) { sim_ = sim; }
 

@@ -350,6 +350,7 @@ class ExperimentLoader {
   void ReadOptionalSections(const ConfigNode& root);
   void ReadArena(const ConfigNode& root);
   void ReadDistribute(const ConfigNode& node);
+  bool CheckMemory(const ConfigNode& arena);
   void ReadLoopFunctions(const ConfigNode& root);
   void ReadOutput(const ConfigNode& root);
   bool LoadLibraryAttribute(const ConfigNode& node);
@@ -1024,6 +1025,50 @@ void ExperimentLoader::ReadDistribute(const ConfigNode& node) {
   element->SetAttribute("id", base_id.c_str());
 }
 
+// Refuses the arena's entities, before any is built, when together they
+// would need more memory than the machine has: a rough estimate per entity
+// (core/bounds.h) times the quantity of every <distribute> block, plus the
+// entities listed one by one. Problems with the blocks themselves are
+// reported when they are read.
+bool ExperimentLoader::CheckMemory(const ConfigNode& arena) {
+  const uint64_t available = AvailableMemoryBytes();
+  double needed = 0;
+  for (const ConfigNode& child : arena.Children()) {
+    if (const auto* entry = Registry<EntityType>::Get().Find(child.name())) {
+      needed += EntityTypeInstance(entry).is_robot() ? kEstimatedBytesPerRobot : kEstimatedBytesPerEntity;
+      continue;
+    }
+    if (child.name() != "distribute") continue;
+    const ConfigNode entity = child.Child("entity");
+    const auto templates = entity.Children();
+    ConfigContext scratch{ctx().file, {}};
+    const int64_t quantity = ConfigNode(entity.element(), &scratch).GetInt("quantity", 0, 1, kMaxDistributeQuantity);
+    if (templates.size() != 1 || !scratch.diagnostics.empty()) continue;
+    const ConfigNode& tmpl = templates.front();
+    const auto* entry = Registry<EntityType>::Get().Find(tmpl.name());
+    if (!entry) continue;
+    uint64_t each = EntityTypeInstance(entry).is_robot() ? kEstimatedBytesPerRobot : kEstimatedBytesPerEntity;
+    const std::string config = tmpl.Child("controller").GetString("config", "");
+    for (const auto& c : sim_.controller_configs_) {
+      if (c->id != config) continue;
+      for (const SensorSystem* sensor : c->sensors) each += sensor->BytesPerRobot();
+      for (const ActuatorSystem* actuator : c->actuators) each += actuator->BytesPerRobot();
+    }
+    const double before = needed;
+    needed += static_cast<double>(each) * static_cast<double>(quantity);
+    if (needed <= static_cast<double>(available)) continue;
+    const double room = std::max(0.0, (static_cast<double>(available) - before) / static_cast<double>(each));
+    entity.Error("quantity", std::to_string(quantity),
+                 std::to_string(quantity) + " " + tmpl.name() + " entities would need about " + FormatBytes(needed) +
+                     " of memory (about " + FormatBytes(static_cast<double>(each)) + " each" +
+                     (before > 0 ? ", with the entities before them" : "") + "), more than the " +
+                     FormatBytes(static_cast<double>(available)) + " this machine has; accepted: at most " +
+                     std::to_string(static_cast<uint64_t>(room)) + " of them here");
+    return false;
+  }
+  return true;
+}
+
 void ExperimentLoader::ReadArena(const ConfigNode& root) {
   const ConfigNode arena = root.Child("arena");
   if (!arena.valid()) {
@@ -1044,7 +1089,7 @@ void ExperimentLoader::ReadArena(const ConfigNode& root) {
   const auto s = Vec3(size[0], size[1], size[2]);
   const auto c = arena.GetTriple("center", {0, 0, size[2] / 2}, Range::Between(-kMaxArenaExtent, kMaxArenaExtent));
   const Vec3 center(c[0], c[1], c[2]);
-  if (diag().size() != errors_before) return;
+  if (diag().size() != errors_before || !CheckMemory(arena)) return;
   sim_.space_.SetArena(center, s);
   placement_ = std::make_unique<PlacementIndex>(0.5);
   const Vec3 lo = center - 0.5 * s, hi = center + 0.5 * s;

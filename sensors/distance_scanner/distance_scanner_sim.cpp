@@ -106,6 +106,9 @@ class DistanceScannerSystem : public SensorSystem {
     }
   }
 
+  // The scan and the one being read, of both sensor types.
+  size_t BytesPerRobot() const override { return 4 * static_cast<size_t>(bins_) * sizeof(float); }
+
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
     const RingMount* mount = sim().MountsOf(robot).Ring("distance_scanner");
     if (!mount) throw AttachError("it has no distance scanner");
