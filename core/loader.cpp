@@ -131,7 +131,10 @@ std::vector<OpenElement> OpenElementsAtEnd(const std::string& text) {
       if (text.find('<') == std::string::npos) {
         Fail(file, 1, "this is not XML: an experiment file is an XML document with root element <colony>");
       } else {
-        message = truncated.empty() ? "text runs to the end of the file" : truncated;
+        // With every element closed, the text stands outside the root element.
+        message = truncated.empty() ? "text outside the root element; accepted: one root element, with only "
+                                      "comments and the <?xml ...?> declaration around it"
+                                    : truncated;
       }
       break;
     case tinyxml2::XML_ERROR_PARSING:
@@ -396,6 +399,16 @@ void ExperimentLoader::Parse() {
   const std::string root = doc.RootElement()->Name();
   if (root != "colony" && root != "argos-configuration") {
     Fail(file, doc.RootElement()->GetLineNum(), "the root element is <" + root + ">; accepted: <colony> or <argos-configuration>");
+  }
+  // tinyxml2 keeps whatever follows the root element; only comments may.
+  for (const tinyxml2::XMLNode* n = doc.RootElement()->NextSibling(); n; n = n->NextSibling()) {
+    const std::string what = n->ToElement() ? "a second root element <" + std::string(n->Value()) + ">"
+                             : n->ToText()  ? "text"
+                                            : "";
+    if (what.empty()) continue;
+    Fail(file, n->GetLineNum(), what + " after </" + root + "> (which closes the root element opened at line " +
+                                    std::to_string(doc.RootElement()->GetLineNum()) +
+                                    "); accepted: one root element, followed only by comments");
   }
   for (const auto& o : options_.overrides) ApplyOverride(doc, o, file);
 }
