@@ -448,7 +448,8 @@ void ExperimentLoader::ReadFramework(const ConfigNode& root) {
   sim_.length_ticks_ = static_cast<uint64_t>(std::llround(length * tps));
   if (length > 0 && sim_.length_ticks_ == 0) sim_.length_ticks_ = 1;
   sim_.seed_ = options_.seed ? *options_.seed : static_cast<uint64_t>(seed);
-  sim_.threads_ = options_.threads ? *options_.threads : threads;
+  // 0 and 1 both run everything on the calling thread: report 1.
+  sim_.threads_ = std::max(1, options_.threads ? *options_.threads : threads);
 }
 
 bool ExperimentLoader::LoadLibraryAttribute(const ConfigNode& node) {
