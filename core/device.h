@@ -80,6 +80,10 @@ class SensorSystem : public SimulationBound {
     (void)engine;
     return "";
   }
+  // Memory one robot's instance holds beyond a few hundred bytes (an image,
+  // a scan), in bytes: the loader adds it to its memory estimate before
+  // creating robots (core/bounds.h).
+  virtual size_t BytesPerRobot() const { return 0; }
 };
 
 class ActuatorSystem : public SimulationBound {
@@ -99,6 +103,8 @@ class ActuatorSystem : public SimulationBound {
     (void)engine;
     return "";
   }
+  // As SensorSystem::BytesPerRobot (a message payload, its copies in a medium).
+  virtual size_t BytesPerRobot() const { return 0; }
 };
 
 }  // namespace colony

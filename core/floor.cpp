@@ -2,6 +2,8 @@
 
 #include <png.h>
 
+#include "core/bounds.h"
+
 namespace colony {
 
 std::string Floor::LoadImage(const std::string& path, double min_x, double min_y, double max_x,
@@ -10,6 +12,13 @@ std::string Floor::LoadImage(const std::string& path, double min_x, double min_y
   image.version = PNG_IMAGE_VERSION;
   if (!png_image_begin_read_from_file(&image, path.c_str())) {
     return "cannot read PNG image '" + path + "': " + image.message;
+  }
+  if (static_cast<uint64_t>(image.width) * image.height > kMaxFloorImagePixels) {
+    const std::string message = "PNG image '" + path + "' is " + std::to_string(image.width) + " x " +
+                                std::to_string(image.height) + " pixels; accepted: at most " +
+                                std::to_string(kMaxFloorImagePixels) + " pixels (e.g. 16384 x 16384)";
+    png_image_free(&image);
+    return message;
   }
   image.format = PNG_FORMAT_RGBA;
   std::vector<Color> pixels(static_cast<size_t>(image.width) * image.height);

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "core/bounds.h"
 #include "core/geometry2d.h"
 #include "core/plugin_loader.h"
 #include "core/simulation.h"
@@ -118,7 +119,10 @@ std::vector<OpenElement> OpenElementsAtEnd(const std::string& text) {
       if (text.find('<') == std::string::npos) {
         Fail(file, 1, "this is not XML: an experiment file is an XML document with root element <colony>");
       } else {
-        message = truncated.empty() ? "text runs to the end of the file" : truncated;
+        // With every element closed, the text stands outside the root element.
+        message = truncated.empty() ? "text outside the root element; accepted: one root element, with only "
+                                      "comments and the <?xml ...?> declaration around it"
+                                    : truncated;
       }
       break;
     case tinyxml2::XML_ERROR_PARSING:
@@ -210,6 +214,10 @@ void ApplyOverride(tinyxml2::XMLDocument& doc, const std::string& spec, const st
 }
 
 // Placed footprints, to reject entities inside walls or on top of each other.
+// Footprints are filed in the 0.5 m cells of a hash grid they touch, except
+// large ones (walls of a huge arena): those are kept apart in a short list
+// that every query tests, so that no footprint is filed in more than
+// kMaxCellsPerItem cells and the index grows with the entities, not the area.
 class PlacementIndex {
  public:
   explicit PlacementIndex(double cell) : cell_(cell) {}
@@ -223,31 +231,58 @@ class PlacementIndex {
   // A placed solid footprint overlapping `pose`/`g` (only movable ones if
   // `movable_only`), or nullptr.
   const Item* FindOverlap(const Pose& pose, const Geometry& g, bool movable_only) const {
-    const Vec2 half = FootprintHalfExtents(g, pose.orientation);
-    const Vec3& p = pose.position;
-    for (int64_t cy = Cell(p.y() - half.y()); cy <= Cell(p.y() + half.y()); ++cy) {
-      for (int64_t cx = Cell(p.x() - half.x()); cx <= Cell(p.x() + half.x()); ++cx) {
+    auto overlap = [&](uint32_t k) {
+      return (!movable_only || items_[k].movable) && Overlaps(pose, g, items_[k].pose, items_[k].geometry);
+    };
+    const CellSpan span = SpanOf(pose, g);
+    if (span.cells() > kMaxCellsPerItem) {
+      // A query larger than the cells it would visit tests every item.
+      for (uint32_t k = 0; k < items_.size(); ++k) {
+        if (overlap(k)) return &items_[k];
+      }
+      return nullptr;
+    }
+    for (int64_t cy = span.y0; cy <= span.y1; ++cy) {
+      for (int64_t cx = span.x0; cx <= span.x1; ++cx) {
         auto it = cells_.find(Key(cx, cy));
         if (it == cells_.end()) continue;
         for (uint32_t k : it->second) {
-          if (movable_only && !items_[k].movable) continue;
-          if (Overlaps(pose, g, items_[k].pose, items_[k].geometry)) return &items_[k];
+          if (overlap(k)) return &items_[k];
         }
       }
+    }
+    for (uint32_t k : large_) {
+      if (overlap(k)) return &items_[k];
     }
     return nullptr;
   }
   void Insert(const Pose& pose, const Geometry& g, const std::string& id, int line, bool movable) {
     const uint32_t k = static_cast<uint32_t>(items_.size());
     items_.push_back({pose, g, id, line, movable});
-    const Vec2 half = FootprintHalfExtents(g, pose.orientation);
-    const Vec3& p = pose.position;
-    for (int64_t cy = Cell(p.y() - half.y()); cy <= Cell(p.y() + half.y()); ++cy)
-      for (int64_t cx = Cell(p.x() - half.x()); cx <= Cell(p.x() + half.x()); ++cx)
+    const CellSpan span = SpanOf(pose, g);
+    if (span.cells() > kMaxCellsPerItem) {
+      large_.push_back(k);
+      return;
+    }
+    for (int64_t cy = span.y0; cy <= span.y1; ++cy)
+      for (int64_t cx = span.x0; cx <= span.x1; ++cx)
         cells_[Key(cx, cy)].push_back(k);
   }
 
  private:
+  static constexpr double kMaxCellsPerItem = 4096;
+  // The cells [x0, x1] x [y0, y1] a footprint's bounding box touches.
+  struct CellSpan {
+    int64_t x0, y0, x1, y1;
+    double cells() const { return (static_cast<double>(x1 - x0) + 1) * (static_cast<double>(y1 - y0) + 1); }
+  };
+  // Placed footprints lie inside the arena (checked first), so cell indices
+  // stay far within int64 range.
+  CellSpan SpanOf(const Pose& pose, const Geometry& g) const {
+    const Vec2 half = FootprintHalfExtents(g, pose.orientation);
+    const Vec3& p = pose.position;
+    return {Cell(p.x() - half.x()), Cell(p.y() - half.y()), Cell(p.x() + half.x()), Cell(p.y() + half.y())};
+  }
   static bool HeightsOverlap(const Pose& a, const Geometry& ga, const Pose& b, const Geometry& gb) {
     return a.position.z() < b.position.z() + gb.height() && b.position.z() < a.position.z() + ga.height();
   }
@@ -274,6 +309,7 @@ class PlacementIndex {
   double cell_;
   std::vector<Item> items_;
   std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+  std::vector<uint32_t> large_;  // items spanning over kMaxCellsPerItem cells
 };
 
 // One stateless instance per registered entity type.
@@ -305,6 +341,7 @@ class ExperimentLoader {
   void ReadOptionalSections(const ConfigNode& root);
   void ReadArena(const ConfigNode& root);
   void ReadDistribute(const ConfigNode& node);
+  bool CheckMemory(const ConfigNode& arena);
   void ReadLoopFunctions(const ConfigNode& root);
   void ReadOutput(const ConfigNode& root);
   bool LoadLibraryAttribute(const ConfigNode& node);
@@ -351,6 +388,16 @@ void ExperimentLoader::Parse() {
   if (root != "colony" && root != "argos-configuration") {
     Fail(file, doc.RootElement()->GetLineNum(), "the root element is <" + root + ">; accepted: <colony> or <argos-configuration>");
   }
+  // tinyxml2 keeps whatever follows the root element; only comments may.
+  for (const tinyxml2::XMLNode* n = doc.RootElement()->NextSibling(); n; n = n->NextSibling()) {
+    const std::string what = n->ToElement() ? "a second root element <" + std::string(n->Value()) + ">"
+                             : n->ToText()  ? "text"
+                                            : "";
+    if (what.empty()) continue;
+    Fail(file, n->GetLineNum(), what + " after </" + root + "> (which closes the root element opened at line " +
+                                    std::to_string(doc.RootElement()->GetLineNum()) +
+                                    "); accepted: one root element, followed only by comments");
+  }
   for (const auto& o : options_.overrides) ApplyOverride(doc, o, file);
 }
 
@@ -389,7 +436,8 @@ void ExperimentLoader::ReadFramework(const ConfigNode& root) {
   sim_.length_ticks_ = static_cast<uint64_t>(std::llround(length * tps));
   if (length > 0 && sim_.length_ticks_ == 0) sim_.length_ticks_ = 1;
   sim_.seed_ = options_.seed ? *options_.seed : static_cast<uint64_t>(seed);
-  sim_.threads_ = options_.threads ? *options_.threads : threads;
+  // 0 and 1 both run everything on the calling thread: report 1.
+  sim_.threads_ = std::max(1, options_.threads ? *options_.threads : threads);
 }
 
 bool ExperimentLoader::LoadLibraryAttribute(const ConfigNode& node) {
@@ -919,7 +967,7 @@ void ExperimentLoader::ReadDistribute(const ConfigNode& node) {
   read_generator(pos_node, pos, false);
   read_generator(ori_node, ori, true);
   ent_node.CheckAttributes({"quantity", "max_trials", "base_num"});
-  const int64_t quantity = ent_node.RequireInt("quantity", 1, 10'000'000);
+  const int64_t quantity = ent_node.RequireInt("quantity", 1, kMaxDistributeQuantity);
   const int64_t max_trials = ent_node.GetInt("max_trials", 100, 1, 1'000'000);
   const int64_t base_num = ent_node.GetInt("base_num", 0, 0, INT64_MAX);
   const auto templates = ent_node.Children();
@@ -979,6 +1027,50 @@ void ExperimentLoader::ReadDistribute(const ConfigNode& node) {
   element->SetAttribute("id", base_id.c_str());
 }
 
+// Refuses the arena's entities, before any is built, when together they
+// would need more memory than the machine has: a rough estimate per entity
+// (core/bounds.h) times the quantity of every <distribute> block, plus the
+// entities listed one by one. Problems with the blocks themselves are
+// reported when they are read.
+bool ExperimentLoader::CheckMemory(const ConfigNode& arena) {
+  const uint64_t available = AvailableMemoryBytes();
+  double needed = 0;
+  for (const ConfigNode& child : arena.Children()) {
+    if (const auto* entry = Registry<EntityType>::Get().Find(child.name())) {
+      needed += EntityTypeInstance(entry).is_robot() ? kEstimatedBytesPerRobot : kEstimatedBytesPerEntity;
+      continue;
+    }
+    if (child.name() != "distribute") continue;
+    const ConfigNode entity = child.Child("entity");
+    const auto templates = entity.Children();
+    ConfigContext scratch{ctx().file, {}};
+    const int64_t quantity = ConfigNode(entity.element(), &scratch).GetInt("quantity", 0, 1, kMaxDistributeQuantity);
+    if (templates.size() != 1 || !scratch.diagnostics.empty()) continue;
+    const ConfigNode& tmpl = templates.front();
+    const auto* entry = Registry<EntityType>::Get().Find(tmpl.name());
+    if (!entry) continue;
+    uint64_t each = EntityTypeInstance(entry).is_robot() ? kEstimatedBytesPerRobot : kEstimatedBytesPerEntity;
+    const std::string config = tmpl.Child("controller").GetString("config", "");
+    for (const auto& c : sim_.controller_configs_) {
+      if (c->id != config) continue;
+      for (const SensorSystem* sensor : c->sensors) each += sensor->BytesPerRobot();
+      for (const ActuatorSystem* actuator : c->actuators) each += actuator->BytesPerRobot();
+    }
+    const double before = needed;
+    needed += static_cast<double>(each) * static_cast<double>(quantity);
+    if (needed <= static_cast<double>(available)) continue;
+    const double room = std::max(0.0, (static_cast<double>(available) - before) / static_cast<double>(each));
+    entity.Error("quantity", std::to_string(quantity),
+                 std::to_string(quantity) + " " + tmpl.name() + " entities would need about " + FormatBytes(needed) +
+                     " of memory (about " + FormatBytes(static_cast<double>(each)) + " each" +
+                     (before > 0 ? ", with the entities before them" : "") + "), more than the " +
+                     FormatBytes(static_cast<double>(available)) + " this machine has; accepted: at most " +
+                     std::to_string(static_cast<uint64_t>(room)) + " of them here");
+    return false;
+  }
+  return true;
+}
+
 void ExperimentLoader::ReadArena(const ConfigNode& root) {
   const ConfigNode arena = root.Child("arena");
   if (!arena.valid()) {
@@ -995,11 +1087,11 @@ void ExperimentLoader::ReadArena(const ConfigNode& root) {
   // Without a size nothing can be placed; other problems do not stop the
   // entities from being checked, so all are reported together.
   const size_t errors_before = diag().size();
-  const auto size = arena.RequireTriple("size", Range::Positive());
+  const auto size = arena.RequireTriple("size", {0, kMaxArenaExtent, true});
   const auto s = Vec3(size[0], size[1], size[2]);
-  const auto c = arena.GetTriple("center", {0, 0, size[2] / 2});
+  const auto c = arena.GetTriple("center", {0, 0, size[2] / 2}, Range::Between(-kMaxArenaExtent, kMaxArenaExtent));
   const Vec3 center(c[0], c[1], c[2]);
-  if (diag().size() != errors_before) return;
+  if (diag().size() != errors_before || !CheckMemory(arena)) return;
   sim_.space_.SetArena(center, s);
   placement_ = std::make_unique<PlacementIndex>(0.5);
   const Vec3 lo = center - 0.5 * s, hi = center + 0.5 * s;
@@ -1007,7 +1099,13 @@ void ExperimentLoader::ReadArena(const ConfigNode& root) {
   if (const ConfigNode floor = arena.Child("floor"); floor.valid()) {
     floor.CheckAttributes({"id", "color", "source", "path"});
     floor.CheckChildren({"ditch"});
-    for (const ConfigNode& d : floor.Children()) {
+    const auto ditches = floor.Children("ditch");
+    const bool too_many = static_cast<int64_t>(ditches.size()) > kMaxDitches;
+    if (too_many) {
+      ditches[kMaxDitches].ElementError("the floor has " + std::to_string(ditches.size()) + " ditches; accepted: at most " +
+                                        std::to_string(kMaxDitches) + " <ditch> elements (join neighbouring ones)");
+    }
+    for (const ConfigNode& d : too_many ? std::vector<ConfigNode>{} : floor.Children()) {
       d.CheckAttributes({"center", "size", "depth"});
       d.CheckChildren({});
       const size_t before = diag().size();

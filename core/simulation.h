@@ -90,6 +90,8 @@ class Simulation {
   double dt() const { return dt_; }
   double time() const { return tick_ * dt_; }
   uint64_t seed() const { return seed_; }
+  // Threads running the simulation, as resolved: 0 in the file or on the
+  // command line means the calling thread only, so it reads 1.
   int threads() const { return threads_; }
   const std::string& file() const { return file_; }
   // The experiment as resolved (overrides applied), as XML text.
@@ -192,7 +194,7 @@ class Simulation {
 
   uint64_t tick_ = 0, length_ticks_ = 0, seed_ = 0;
   double dt_ = 0.1;
-  int threads_ = 0;
+  int threads_ = 1;
   bool done_ = false;
   OutputConfig output_;
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "core/bounds.h"
+
 namespace colony {
 
 std::string StateHasher::Hex(uint64_t v) {
@@ -128,9 +130,11 @@ void Space::SetArena(const Vec3& center, const Vec3& size) {
 
 void Space::ConfigureGrid() {
   // Cells of at least 0.5 m and at least one movable body across: a
-  // neighbour query then touches a handful of cells.
-  const double cell = std::max(0.5, 2.0 * max_movable_radius_);
+  // neighbour query then touches a handful of cells. Over a huge arena they
+  // grow, so that the table stays within GridCellCap (core/bounds.h).
   const Vec3 extent = arena_max_ - arena_min_;
+  const double cell = CappedCellSize(extent.x(), extent.y(), std::max(0.5, 2.0 * max_movable_radius_),
+                                     GridCellCap(alive_count_));
   const int nx = std::max(1, static_cast<int>(std::ceil(extent.x() / cell)));
   const int ny = std::max(1, static_cast<int>(std::ceil(extent.y() / cell)));
   if (cell == cell_ && nx == nx_ && ny == ny_ && !cell_start_.empty()) return;

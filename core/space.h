@@ -236,14 +236,11 @@ class Space {
   void BuildMovableGrid();
   void BuildStaticGrid();
   // Inline: called for every query box corner, several times per robot per tick.
-  int CellX(double x) const {
-    const int c = static_cast<int>((x - arena_min_.x()) * inv_cell_);
-    return std::clamp(c, 0, nx_ - 1);
-  }
-  int CellY(double y) const {
-    const int c = static_cast<int>((y - arena_min_.y()) * inv_cell_);
-    return std::clamp(c, 0, ny_ - 1);
-  }
+  // Clamped before the conversion: a query far outside the arena (or NaN)
+  // must not overflow an int.
+  static int ClampedCell(double f, int n) { return f >= 1 ? (f < n ? static_cast<int>(f) : n - 1) : 0; }
+  int CellX(double x) const { return ClampedCell((x - arena_min_.x()) * inv_cell_, nx_); }
+  int CellY(double y) const { return ClampedCell((y - arena_min_.y()) * inv_cell_, ny_); }
 
   // Hot arrays, indexed by slot.
   std::vector<uint8_t> flags_;
@@ -280,7 +277,8 @@ class Space {
 
   // Spatial index, a uniform grid over the arena: movable solid entities by
   // the cell of their centre (rebuilt every tick); non-movable solid ones in
-  // every cell their footprint touches (rebuilt only when they change).
+  // every cell their footprint touches (rebuilt only when they change). At
+  // most GridCellCap(entities) cells (core/bounds.h), whatever the arena.
   double cell_ = 0.5, inv_cell_ = 2.0;
   int nx_ = 0, ny_ = 0;
   std::vector<CellStart> cell_start_;    // nx*ny + 1, row by row

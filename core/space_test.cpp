@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -252,6 +253,30 @@ TEST_F(core_test_space, HashChangesWithStateOnly) {
   EXPECT_EQ(hash(), before);
   space.pose(r.index).position.x() += 1e-9;
   EXPECT_NE(hash(), before);
+}
+
+// Over a 100 km arena the grid widens its cells instead of allocating
+// 4e10 of them, and still finds what is near a query.
+TEST_F(core_test_space, HugeArenaGridIsBoundedAndStillFindsNeighbours) {
+  space.SetArena(Vec3(0, 0, 0.5), Vec3(1e5, 1e5, 1));
+  const EntityHandle r = space.Add(Robot("r", robot_type, 30000, -20000));
+  const EntityHandle w = space.Add(Wall("w", box_type, 0, 49999.95, 1e5, 0.1));
+  space.UpdateIndex();
+  const double cells = std::ceil(1e5 / space.cell_size()) * std::ceil(1e5 / space.cell_size());
+  EXPECT_LE(cells, 1 << 20);
+  EXPECT_GT(space.cell_size(), 0.5);
+  EXPECT_TRUE(HasSlot(Gathered(space, 29999, -20001, 30001, -19999), r.index));
+  EXPECT_TRUE(HasSlot(Gathered(space, -10, 49990, 10, 50000), w.index));
+  // Queries far outside the arena, or at NaN, land in edge cells.
+  EXPECT_TRUE(HasSlot(Gathered(space, -1e300, 4e4, 1e300, 1e300), w.index));
+  const double nan = std::nan("");
+  EXPECT_LE(Gathered(space, nan, nan, nan, nan).size(), 2u);
+}
+
+TEST_F(core_test_space, SmallArenaKeepsHalfMetreCells) {
+  space.Add(Robot("r", robot_type, 0, 0));
+  space.UpdateIndex();
+  EXPECT_EQ(space.cell_size(), 0.5);
 }
 
 }  // namespace

@@ -63,7 +63,8 @@ class CellGrid {
   }
 
  private:
-  static int Cell(double f, int n) { return f < 0 ? 0 : (f >= n ? n - 1 : static_cast<int>(f)); }
+  // Clamped before the conversion, so that no position (even NaN) overflows an int.
+  static int Cell(double f, int n) { return f >= 1 ? (f < n ? static_cast<int>(f) : n - 1) : 0; }
   int CellX(double x) const { return Cell((x - min_x_) * inv_cell_, nx_); }
   int CellY(double y) const { return Cell((y - min_y_) * inv_cell_, ny_); }
 

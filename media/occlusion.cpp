@@ -35,12 +35,17 @@ void OccluderGrid::Build(const Space& space, double cell) {
     extents_.push_back({static_cast<float>(half.x()), static_cast<float>(half.y())});
   }
 
-  // The grid over the arena; cells grow when there would be too many.
+  // The grid over the arena; cells grow when there would be too many, or
+  // more than 65536 along a side (first_cell_ packs a cell in 16 + 16 bits).
   const Vec3& lo = space.arena_min();
   const Vec3& hi = space.arena_max();
   const double wx = std::max(hi.x() - lo.x(), 1e-9), wy = std::max(hi.y() - lo.y(), 1e-9);
   const double limit = std::max<double>(4096, 4.0 * bodies_.size());
-  while (std::ceil(wx / cell) * std::ceil(wy / cell) > limit) cell *= 1.25;
+  constexpr double kMaxSide = 65536;
+  while (std::ceil(wx / cell) * std::ceil(wy / cell) > limit || std::ceil(wx / cell) > kMaxSide ||
+         std::ceil(wy / cell) > kMaxSide) {
+    cell *= 1.25;
+  }
   nx_ = static_cast<int>(std::ceil(wx / cell));
   ny_ = static_cast<int>(std::ceil(wy / cell));
   inv_cell_ = 1.0 / cell;
@@ -54,8 +59,9 @@ void OccluderGrid::Build(const Space& space, double cell) {
     const Occluder& o = bodies_[b];
     const int x0 = CellX(o.x - extents_[b].first), x1 = CellX(o.x + extents_[b].first);
     const int y0 = CellY(o.y - extents_[b].second), y1 = CellY(o.y + extents_[b].second);
+    const uint32_t first = static_cast<uint32_t>(x0) | static_cast<uint32_t>(y0) << 16;
     for (int cy = y0; cy <= y1; ++cy) {
-      for (int cx = x0; cx <= x1; ++cx) f(static_cast<size_t>(cy) * nx_ + cx, static_cast<uint32_t>(x0 | (y0 << 16)));
+      for (int cx = x0; cx <= x1; ++cx) f(static_cast<size_t>(cy) * nx_ + cx, first);
     }
   };
   for (size_t b = 0; b < bodies_.size(); ++b) for_each_cell(b, [&](size_t c, uint32_t) { ++cell_start_[c + 1]; });

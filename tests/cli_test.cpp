@@ -77,6 +77,28 @@ TEST(Cli, SeedAndThreadsFromCommandLine) {
   for (const auto& d : {a, b, c}) fs::remove_all(d);
 }
 
+// 0 threads runs everything on the calling thread: the final line and
+// summary.json say 1 thread, not 0.
+TEST(Cli, ZeroThreadsAreReportedAsOne) {
+  const fs::path out = TempDir("zero_threads");
+  const Result r = Colony("run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --threads 0 "
+                          "--set framework.experiment.length=1 --out " + out.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find(", 1 thread)"), std::string::npos) << r.output;
+  EXPECT_NE(ReadFile(out / "summary.json").find("\"threads\": 1,"), std::string::npos);
+  fs::remove_all(out);
+}
+
+// A huge arena is refused with exit status 2 naming the attribute, at once.
+TEST(Cli, HugeArenaExitsWithStatus2) {
+  const Result r = Colony("run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --set arena.size=1e9,1e9,1e9");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("<arena> attribute 'size': '1e9,1e9,1e9' is out of range; accepted: a number in "
+                          "(0, 100000]"),
+            std::string::npos)
+      << r.output;
+}
+
 TEST(Cli, QuietPrintsNothing) {
   const fs::path out = TempDir("quiet");
   const Result r = Colony("run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --quiet --set framework.experiment.length=1 --out " + out.string());

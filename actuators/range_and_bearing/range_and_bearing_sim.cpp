@@ -28,6 +28,8 @@ class RabActuatorSystem : public ActuatorSystem {
     range_ = node.GetDouble("range", medium_ ? medium_->default_range() : RangeAndBearingMedium::kDefaultRange,
                             Range::Positive());
   }
+  // The payload, and the medium's staged and published copies of it.
+  size_t BytesPerRobot() const override { return 3 * data_size_; }
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
     RabEmitterInstance& a = instances_.Add(robot, rng);
     a.Init(data_size_);

@@ -425,7 +425,8 @@ COLONY_REGISTER_RENDERER(
          "draws at this many times the size and averages down; 1: off"},
         {"background", kColorAccepted, "215,222,230", "colour around the arena"},
         {"grid", "0, or a number >= 0.01 (m)", "1",
-         "faint floor grid lines this far apart; 0: none"},
+         "faint floor grid lines this far apart (farther over a large arena: at most 2000 "
+         "across a side); 0: none"},
         {"ids", "true, false", "false", "writes each robot's id above it"},
         {"trails", "true, false", "false", "draws the recent path of every movable entity"},
         {"trail_ticks", "a whole number >= 2", "100", "how many ticks of path a trail shows"},

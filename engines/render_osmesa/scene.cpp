@@ -218,6 +218,9 @@ void AddGrid(const Space& space, double spacing, SceneBatch& batch) {
   const Vec3& lo = space.arena_min();
   const Vec3& hi = space.arena_max();
   const Color faint{0, 0, 0, 45};
+  // Lines 10 times farther apart until at most kMaxGridLines cross each side.
+  constexpr double kMaxGridLines = 2000;
+  while (std::max(hi.x() - lo.x(), hi.y() - lo.y()) / spacing > kMaxGridLines) spacing *= 10;
   for (double k = std::ceil(lo.x() / spacing); k * spacing <= hi.x(); ++k) {
     const double x = k * spacing;
     AddLine(batch.floor_lines, Vec3(x, lo.y(), lo.z()), Vec3(x, hi.y(), lo.z()), faint, faint);

@@ -40,7 +40,8 @@ struct SceneBatch {
 // Appends `from`-`to` to `lines` as one segment.
 void AddLine(std::vector<Vertex>& lines, const Vec3& from, const Vec3& to, Color from_color,
              Color to_color);
-// Faint lines every `spacing` metres over the arena's floor.
+// Faint lines every `spacing` metres over the arena's floor (10, 100...
+// times farther apart if more than 2000 would cross a side).
 void AddGrid(const Space& space, double spacing, SceneBatch& batch);
 
 // How finely curved shapes are cut: coarse for entities a few pixels wide.

@@ -52,6 +52,8 @@ class CameraSystem : public SensorSystem {
     noise_ = NoiseModel::Read(node);
   }
 
+  size_t BytesPerRobot() const override { return static_cast<size_t>(width_) * height_ * 3; }
+
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
     CameraInstance& c = instances_.Add(robot, rng);
     const double front = sim().space().geometry(robot.index).BoundingRadius();

@@ -86,7 +86,8 @@ struct ScannerInstance : DistanceScanner, InstanceBase {
 class DistanceScannerSystem : public SensorSystem {
  public:
   void Configure(const ConfigNode& node) override {
-    scans_per_second_ = node.GetDouble("scans_per_second", 1.0, Range{0.0, 2.0, true});
+    // At least 0.01: at most 12,000 bins per scan (0.03 degrees each).
+    scans_per_second_ = node.GetDouble("scans_per_second", 1.0, Range::Between(0.01, 2.0));
     curves_[0] = ReadRange(node, "short_range", kShortCurve);
     curves_[1] = ReadRange(node, "long_range", kLongCurve);
     cos_max_incidence_ = std::cos(DegToRad(node.GetDouble("max_incidence", 70.0, Range::Between(0, 90))));
@@ -104,6 +105,9 @@ class DistanceScannerSystem : public SensorSystem {
       bin_angle_[i] = static_cast<float>(WrapAngle(i * bin_width_));
     }
   }
+
+  // The scan and the one being read, of both sensor types.
+  size_t BytesPerRobot() const override { return 4 * static_cast<size_t>(bins_) * sizeof(float); }
 
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
     const RingMount* mount = sim().MountsOf(robot).Ring("distance_scanner");
@@ -358,7 +362,7 @@ class DistanceScannerSystem : public SensorSystem {
 
 std::vector<AttributeDoc> ScannerAttributes() {
   std::vector<AttributeDoc> a = {
-      {"scans_per_second", "a number in (0, 2]", "1",
+      {"scans_per_second", "a number in [0.01, 2]", "1",
        "full 360-degree scans per second (half a rotor turn each); bins of 3 degrees x scans_per_second"},
       {"short_range", "\"min,max\", 0 < min < max (m)", "0.04,0.3",
        "monotonic range of the two short-range sensors, from their faces"},

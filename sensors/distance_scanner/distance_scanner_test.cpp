@@ -314,7 +314,7 @@ TEST(DistanceScanner, BadAttributesAreReportedWithElementAndLine) {
   const std::string fast = LoadError(Experiment(
       robot, "<scanner_probe id=\"sp\">\n<sensors>\n<distance_scanner scans_per_second=\"3\"/></sensors></scanner_probe>"));
   EXPECT_NE(fast.find("<string>:3: <distance_scanner> attribute 'scans_per_second': '3' is out of range; "
-                      "accepted: a number in (0, 2]"),
+                      "accepted: a number in [0.01, 2]"),
             std::string::npos) << fast;
   const std::string zero = LoadError(Experiment(robot, Controllers("scans_per_second=\"0\"")));
   EXPECT_NE(zero.find("attribute 'scans_per_second'"), std::string::npos) << zero;
