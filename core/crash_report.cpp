@@ -80,7 +80,7 @@ void OnStop(int signal_number) { stop_signal = signal_number; }
 
 }  // namespace
 
-RunningScope::RunningScope(const RunningCode& code) : previous_(running) { running = code; }
+RunningScope::RunningScope(const RunningCode& code) : previous_(running), current_(&running) { running = code; }
 RunningScope::~RunningScope() { running = previous_; }
 
 void UseAlternateSignalStack() {

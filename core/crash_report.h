@@ -20,17 +20,20 @@ struct RunningCode {
   uint64_t tick = 0;              // the tick being computed
 };
 
-// Marks the calling thread as running `code` until the scope ends. Cheap
-// (a few stores), so it can wrap every controller step.
+// Marks the calling thread as running `code` until the scope ends. A loop
+// over robots opens one scope and updates code() per robot: plain stores,
+// no thread-local lookup per robot.
 class RunningScope {
  public:
   explicit RunningScope(const RunningCode& code);
   ~RunningScope();
   RunningScope(const RunningScope&) = delete;
   RunningScope& operator=(const RunningScope&) = delete;
+  RunningCode& code() { return *current_; }
 
  private:
   RunningCode previous_;
+  RunningCode* current_;
 };
 
 // Installs the crash handlers (process-wide; on an alternate stack for the

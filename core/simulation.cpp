@@ -66,6 +66,7 @@ EntityHandle Simulation::Instantiate(const EntityDesc& desc, const PhysicsModel*
 void Simulation::AttachController(Robot& robot, const ConfigNode& where) {
   ControllerConfig& config = *robot.config;
   const auto* entry = static_cast<const Registry<Controller>::Entry*>(config.entry);
+  config.library = entry->info.library.empty() ? nullptr : entry->info.library.c_str();
   robot.controller = entry->create();
   const size_t ns = config.sensors.size(), na = config.actuators.size();
   robot.sensors = std::make_unique<Sensor*[]>(ns);
@@ -262,11 +263,14 @@ void Simulation::SenseAndControl() {
     }
   };
   auto control = [&](size_t b, size_t e) {
+    RunningScope running({"controller", nullptr, nullptr, nullptr, tick_ + 1});
+    RunningCode& code = running.code();
     for (size_t i = b; i < e; ++i) {
       Robot& r = robots_[i];
       if (!r.alive) continue;
-      const RunningScope running({"controller", r.config->label.c_str(), LibraryOf(*r.config),
-                                  r.id.c_str(), tick_ + 1});
+      code.label = r.config->label.c_str();
+      code.library = r.config->library;
+      code.robot = r.id.c_str();
       try {
         r.controller->ControlStep();
       } catch (const std::exception& ex) {
@@ -297,11 +301,6 @@ void Simulation::SenseAndControl() {
     throw RuntimeFailure("controller '" + r.config->label + "' of robot '" + r.id + "' failed at tick " +
                          std::to_string(tick_ + 1) + ": " + error_message);
   }
-}
-
-const char* Simulation::LibraryOf(const ControllerConfig& config) {
-  const auto& library = static_cast<const Registry<Controller>::Entry*>(config.entry)->info.library;
-  return library.empty() ? nullptr : library.c_str();
 }
 
 template <typename Hook>

@@ -148,6 +148,7 @@ class Simulation {
     std::string id;
     std::string label;
     const void* entry = nullptr;  // Registry<Controller>::Entry
+    const char* library = nullptr;  // the entry's shared library, or null (built in), for crash reports
     ConfigNode node;
     Params params;
     std::vector<std::string> sensor_labels, actuator_labels;
@@ -180,8 +181,6 @@ class Simulation {
   void Act();
   void SenseAndControl();
   bool SensorsAlignWithRobots() const;
-  // The shared library a controller came from, or nullptr (built in).
-  static const char* LibraryOf(const ControllerConfig& config);
   // Calls `call` on every loop functions, naming them (and `tick`, the tick
   // being computed) in what they throw and in a crash report.
   template <typename Hook>
