@@ -52,8 +52,8 @@ std::string WriteErrorMessage(const std::string& path, int error_number) {
   return "cannot write '" + path + "': " + std::strerror(error_number);
 }
 
-void WriteFileAtomically(const std::string& path, std::string_view text, bool sync) {
-  const std::string tmp = path + ".tmp";
+void WriteFileAtomically(const std::string& path, std::string_view text, bool sync, const std::string& tmp_name) {
+  const std::string tmp = tmp_name.empty() ? path + ".tmp" : tmp_name;
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw RuntimeFailure(WriteErrorMessage(tmp, errno));
   int error = 0;
@@ -92,24 +92,27 @@ RowFile::~RowFile() {
   ::close(fd_);
 }
 
+int RowFile::WriteRows(const char* rows, size_t size) {
+  writing_.store(true);
+  int error = 0;
+  const size_t done = WriteAll(fd_, rows, size, error);
+  size_t whole = done;
+  if (error) {
+    // Keep the rows that went out whole; cut the rest off the file.
+    while (whole > 0 && rows[whole - 1] != '\n') --whole;
+    if (::ftruncate(fd_, static_cast<off_t>(file_size_ + whole)) == 0) ::lseek(fd_, 0, SEEK_END);
+  }
+  file_size_ += whole;
+  writing_.store(false);
+  last_write_ = std::chrono::steady_clock::now();
+  return error;
+}
+
 int RowFile::WriteBuffered() {
   const size_t used = used_.load();
   if (used == 0) return 0;
-  writing_.store(true);
-  int error = 0;
-  const size_t done = WriteAll(fd_, buffer_.get(), used, error);
-  if (error) {
-    // Keep the rows that went out whole; cut the rest off the file.
-    size_t whole = done;
-    while (whole > 0 && buffer_[whole - 1] != '\n') --whole;
-    file_size_ += whole;
-    if (::ftruncate(fd_, static_cast<off_t>(file_size_)) == 0) ::lseek(fd_, 0, SEEK_END);
-  } else {
-    file_size_ += used;
-  }
+  const int error = WriteRows(buffer_.get(), used);
   used_.store(0);
-  writing_.store(false);
-  last_write_ = std::chrono::steady_clock::now();
   return error;
 }
 
@@ -117,17 +120,8 @@ void RowFile::Append(std::string_view row) {
   if (fd_ < 0) throw RuntimeFailure(WriteErrorMessage(path_, EBADF));
   if (used_.load() + row.size() > kCapacity) Flush();
   if (row.size() > kCapacity) {
-    // Larger than the buffer: straight out, as one whole row.
-    writing_.store(true);
-    int error = 0;
-    WriteAll(fd_, row.data(), row.size(), error);
-    if (error) {
-      if (::ftruncate(fd_, static_cast<off_t>(file_size_)) == 0) ::lseek(fd_, 0, SEEK_END);
-    } else {
-      file_size_ += row.size();
-    }
-    writing_.store(false);
-    if (error) throw RuntimeFailure(WriteErrorMessage(path_, error));
+    // Larger than the buffer: straight out.
+    if (const int error = WriteRows(row.data(), row.size())) throw RuntimeFailure(WriteErrorMessage(path_, error));
     return;
   }
   const size_t used = used_.load();

@@ -14,12 +14,15 @@
 
 namespace colony {
 
-// Writes `text` to `path` through `path`.tmp: written, fsync'ed (when `sync`),
-// renamed over `path`, then the folder synced. On any failure the temporary
-// file is removed and RuntimeFailure names the file and the reason; `path` is
-// left as it was. Without `sync` a crash of the process still never leaves a
-// partial `path`; a crash of the machine might.
-void WriteFileAtomically(const std::string& path, std::string_view text, bool sync = true);
+// Writes `text` to `path` through a temporary file (`tmp`, default
+// `path`.tmp; writers on several hosts sharing a folder give each their
+// own): written, fsync'ed (when `sync`), renamed over `path`, then the folder
+// synced. On any failure the temporary file is removed and RuntimeFailure
+// names the file and the reason; `path` is left as it was. Without `sync` a
+// crash of the process still never leaves a partial `path`; a crash of the
+// machine might.
+void WriteFileAtomically(const std::string& path, std::string_view text, bool sync = true,
+                         const std::string& tmp = "");
 
 // Where a write of `path` failed, as a message: "cannot write 'PATH': REASON".
 std::string WriteErrorMessage(const std::string& path, int error_number);
@@ -55,7 +58,10 @@ class RowFile {
 
  private:
   static constexpr size_t kCapacity = 64 * 1024;
-  // Writes [0, used_) to the file; returns 0 or the errno of the failure.
+  // Writes `size` bytes of whole rows; when a write fails part-way, cuts the
+  // file back to its last whole row. Returns 0 or the errno of the failure.
+  int WriteRows(const char* rows, size_t size);
+  // WriteRows of the buffer, which it then empties.
   int WriteBuffered();
 
   std::string path_;

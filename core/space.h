@@ -236,11 +236,8 @@ class Space {
   void BuildMovableGrid();
   void BuildStaticGrid();
   // Inline: called for every query box corner, several times per robot per tick.
-  // Clamped before the conversion: a query far outside the arena (or NaN)
-  // must not overflow an int.
-  static int ClampedCell(double f, int n) { return f >= 1 ? (f < n ? static_cast<int>(f) : n - 1) : 0; }
-  int CellX(double x) const { return ClampedCell((x - arena_min_.x()) * inv_cell_, nx_); }
-  int CellY(double y) const { return ClampedCell((y - arena_min_.y()) * inv_cell_, ny_); }
+  int CellX(double x) const { return ClampedCellIndex((x - arena_min_.x()) * inv_cell_, nx_); }
+  int CellY(double y) const { return ClampedCellIndex((y - arena_min_.y()) * inv_cell_, ny_); }
 
   // Hot arrays, indexed by slot.
   std::vector<uint8_t> flags_;

@@ -63,10 +63,8 @@ class CellGrid {
   }
 
  private:
-  // Clamped before the conversion, so that no position (even NaN) overflows an int.
-  static int Cell(double f, int n) { return f >= 1 ? (f < n ? static_cast<int>(f) : n - 1) : 0; }
-  int CellX(double x) const { return Cell((x - min_x_) * inv_cell_, nx_); }
-  int CellY(double y) const { return Cell((y - min_y_) * inv_cell_, ny_); }
+  int CellX(double x) const { return ClampedCellIndex((x - min_x_) * inv_cell_, nx_); }
+  int CellY(double y) const { return ClampedCellIndex((y - min_y_) * inv_cell_, ny_); }
 
   double cell_ = 0, inv_cell_ = 0, min_x_ = 0, min_y_ = 0;
   int nx_ = 0, ny_ = 0;

@@ -136,10 +136,8 @@ class OccluderGrid {
   }
 
  private:
-  // Clamped before the conversion, so that no position (even NaN) overflows an int.
-  static int Cell(double f, int n) { return f >= 1 ? (f < n ? static_cast<int>(f) : n - 1) : 0; }
-  int CellX(double x) const { return Cell((x - min_x_) * inv_cell_, nx_); }
-  int CellY(double y) const { return Cell((y - min_y_) * inv_cell_, ny_); }
+  int CellX(double x) const { return ClampedCellIndex((x - min_x_) * inv_cell_, nx_); }
+  int CellY(double y) const { return ClampedCellIndex((y - min_y_) * inv_cell_, ny_); }
 
   std::vector<Occluder> bodies_;     // one per solid body, in slot order
   std::vector<std::pair<float, float>> extents_;  // half extents of each body's footprint's bounding box

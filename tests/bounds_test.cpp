@@ -16,17 +16,6 @@
 namespace colony::testing {
 namespace {
 
-// Passes when `message` is an error containing each of `parts`.
-::testing::AssertionResult Mentions(const std::string& message, const std::vector<std::string>& parts) {
-  if (message.empty()) return ::testing::AssertionFailure() << "the experiment loaded without any error";
-  for (const auto& part : parts) {
-    if (message.find(part) == std::string::npos) {
-      return ::testing::AssertionFailure() << "the message lacks \"" << part << "\":\n" << message;
-    }
-  }
-  return ::testing::AssertionSuccess();
-}
-
 // The highest resident memory of this process so far (bytes).
 double PeakResidentBytes() {
   rusage usage{};
@@ -240,6 +229,28 @@ TEST(bounds, ZeroThreadsResolveToOne) {
   EXPECT_EQ(LoadXml(xml)->threads(), 1);
   EXPECT_EQ(LoadXml(xml, {}, 0)->threads(), 1);
   EXPECT_EQ(LoadXml(xml, {}, 3)->threads(), 3);
+}
+
+// The table of bounds in docs/experiment-files.md states the figures of
+// core/bounds.h (it is written by hand: this keeps it true).
+TEST(bounds, DocumentedTableMatchesTheCode) {
+  const std::string doc = ReadFile(COLONY_SOURCE_DIR "/docs/experiment-files.md");
+  auto row = [&](const std::string& first_cell) {
+    const size_t k = doc.find("\n| " + first_cell + " |");
+    return k == std::string::npos ? std::string() : doc.substr(k + 1, doc.find('\n', k + 1) - k - 1);
+  };
+  auto whole = [](double v) { return std::to_string(static_cast<int64_t>(v)); };
+  EXPECT_NE(row("`arena` `size`, each axis").find("(0, " + whole(kMaxArenaExtent) + "] m"), std::string::npos);
+  EXPECT_NE(row("`arena` `center`, each axis").find("[-" + whole(kMaxArenaExtent) + ", " + whole(kMaxArenaExtent) + "]"),
+            std::string::npos);
+  EXPECT_NE(row("`<ditch>` elements in `<floor>`").find("at most " + std::to_string(kMaxDitches)), std::string::npos);
+  EXPECT_EQ(kMaxFloorImagePixels, uint64_t{1} << 28);
+  EXPECT_NE(row("floor image (`source=\"image\"`)").find("at most 2^28 pixels"), std::string::npos);
+  EXPECT_NE(row("`distribute/entity` `quantity`").find("[1, " + std::to_string(kMaxDistributeQuantity) + "]"),
+            std::string::npos);
+  EXPECT_NE(doc.find(std::to_string(kEstimatedBytesPerRobot / 1024) + " kB per robot and " +
+                     std::to_string(kEstimatedBytesPerEntity / 1024) + " kB per other entity"),
+            std::string::npos);
 }
 
 }  // namespace

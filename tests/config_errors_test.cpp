@@ -47,17 +47,6 @@ std::vector<Diagnostic> Diagnose(const std::string& xml, std::vector<std::string
   return {};
 }
 
-// Passes when `message` is an error containing each of `parts`.
-::testing::AssertionResult Mentions(const std::string& message, const std::vector<std::string>& parts) {
-  if (message.empty()) return ::testing::AssertionFailure() << "the experiment loaded without any error";
-  for (const auto& part : parts) {
-    if (message.find(part) == std::string::npos) {
-      return ::testing::AssertionFailure() << "the message lacks \"" << part << "\":\n" << message;
-    }
-  }
-  return ::testing::AssertionSuccess();
-}
-
 // A file whose <experiment> (line 3) carries `attributes`.
 std::string WithExperiment(const std::string& attributes) {
   return "<colony>\n<framework>\n<experiment " + attributes +

@@ -34,18 +34,7 @@ Process Start(const std::vector<std::string>& args, const fs::path& log) {
   fs::create_directories(log.parent_path());
   std::vector<std::string> words{COLONY_EXE};
   words.insert(words.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& w : words) argv.push_back(w.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  Process p;
-  p.log = log;
-  if (posix_spawn(&p.pid, COLONY_EXE, &actions, nullptr, argv.data(), environ) != 0) p.pid = -1;
-  posix_spawn_file_actions_destroy(&actions);
-  return p;
+  return {colony::testing::SpawnWithOutput(words, log.string()), log};
 }
 
 // Sends `signal_number` to the started process (never to a group: a pid of

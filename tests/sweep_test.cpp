@@ -49,16 +49,8 @@ Result Colony(const std::string& args, const std::string& launcher = "") {
 pid_t StartSweep(const std::vector<std::string>& args) {
   std::vector<std::string> all{COLONY_EXE, "sweep"};
   all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  pid_t pid = 0;
-  EXPECT_EQ(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
+  const pid_t pid = colony::testing::SpawnWithOutput(all, "/dev/null");
+  EXPECT_GT(pid, 0);
   return pid;
 }
 

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <spawn.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -62,6 +64,34 @@ inline std::filesystem::path FreshTempDir(const std::string& prefix, const std::
                    (prefix + "_" + name + "_" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   return dir;
+}
+
+// Passes when `message` is an error containing each of `parts`.
+inline ::testing::AssertionResult Mentions(const std::string& message, const std::vector<std::string>& parts) {
+  if (message.empty()) return ::testing::AssertionFailure() << "the experiment loaded without any error";
+  for (const auto& part : parts) {
+    if (message.find(part) == std::string::npos) {
+      return ::testing::AssertionFailure() << "the message lacks \"" << part << "\":\n" << message;
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// Starts `argv` (argv[0] a path) in the background with its standard output
+// and error going to `output` (created or truncated; "/dev/null" discards
+// them). Returns its pid, or -1 if it could not be started.
+inline pid_t SpawnWithOutput(std::vector<std::string> argv, const std::string& output) {
+  std::vector<char*> words;
+  for (auto& a : argv) words.push_back(a.data());
+  words.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, output.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  pid_t pid = -1;
+  if (posix_spawn(&pid, words[0], &actions, nullptr, words.data(), environ) != 0) pid = -1;
+  posix_spawn_file_actions_destroy(&actions);
+  return pid;
 }
 
 // The attribute names in the first column of the attribute tables of

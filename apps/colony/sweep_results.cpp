@@ -165,15 +165,13 @@ std::vector<std::string> ParseCsvLine(const std::string& line) {
 void WriteAtomically(const std::string& path, const std::string& text) {
   char host[256] = "host";
   gethostname(host, sizeof host - 1);
+  // Ranks on several hosts may share the folder: each its own temporary file.
   const std::string tmp = path + "." + host + "." + std::to_string(getpid()) + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    if (!out.flush()) throw Failure("cannot write '" + tmp + "'");
+  try {
+    WriteFileAtomically(path, text, /*sync=*/true, tmp);
+  } catch (const RuntimeFailure& e) {
+    throw Failure(e.what());
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) throw Failure("cannot write '" + path + "': " + ec.message());
 }
 
 const char* StatusName(RunEnd::Status status) {
