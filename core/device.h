@@ -7,6 +7,7 @@
 
 #include <deque>
 #include <string>
+#include <vector>
 
 #include "core/config.h"
 #include "core/control_interface.h"
@@ -72,14 +73,12 @@ class SensorSystem : public SimulationBound {
   virtual void Update(size_t begin, size_t end) = 0;
   // Adds what controllers read to the state hash.
   virtual void Hash(StateHasher& h) const { (void)h; }
-  // Why this device cannot work on a robot that `engine` simulates (e.g.
-  // "does not simulate gripping; use dynamics2d"), or "" if it can. The host
-  // asks when it attaches the device and whenever the robot migrates into
-  // another engine's region (core/simulation.cpp: AttachController, Migrate).
-  virtual std::string EngineProblem(const PhysicsEngine& engine) const {
-    (void)engine;
-    return "";
-  }
+  // The components (core/component.h) of the robot this device reads or
+  // writes, e.g. {"gripper"}. The host checks, before Attach and whenever the
+  // robot migrates into another engine's region, that the robot carries
+  // them and that its engine's model simulates them (core/simulation.cpp:
+  // AttachController, Migrate).
+  virtual std::vector<std::string> NeededComponents() const { return {}; }
   // Memory one robot's instance holds beyond a few hundred bytes (an image,
   // a scan), in bytes: the loader adds it to its memory estimate before
   // creating robots (core/bounds.h).
@@ -95,14 +94,12 @@ class ActuatorSystem : public SimulationBound {
   virtual size_t size() const = 0;
   // Writes the commands of instances [begin, end) into the space.
   virtual void Act(size_t begin, size_t end) = 0;
-  // Why this device cannot work on a robot that `engine` simulates (e.g.
-  // "does not simulate gripping; use dynamics2d"), or "" if it can. The host
-  // asks when it attaches the device and whenever the robot migrates into
-  // another engine's region (core/simulation.cpp: AttachController, Migrate).
-  virtual std::string EngineProblem(const PhysicsEngine& engine) const {
-    (void)engine;
-    return "";
-  }
+  // The components (core/component.h) of the robot this device reads or
+  // writes, e.g. {"gripper"}. The host checks, before Attach and whenever the
+  // robot migrates into another engine's region, that the robot carries
+  // them and that its engine's model simulates them (core/simulation.cpp:
+  // AttachController, Migrate).
+  virtual std::vector<std::string> NeededComponents() const { return {}; }
   // As SensorSystem::BytesPerRobot (a message payload, its copies in a medium).
   virtual size_t BytesPerRobot() const { return 0; }
 };

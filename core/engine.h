@@ -4,9 +4,18 @@
 // region holds it and migrates when it crosses into another's; fixed
 // entities are present in every engine whose region they touch. Engines then
 // step in parallel, so an engine reads only its own entities and fixed ones,
-// never another engine's movables. Each entity type it can simulate has a registered model
-// for the (engine, entity type) pair (plugin kind "physics_model", label
-// "engine:entity"); a missing pair is a load-time error naming both.
+// never another engine's movables.
+//
+// An engine knows no robot. Each entity type it can simulate has a registered
+// physics model for the (engine, entity type) pair (plugin kind
+// "physics_model", label "engine:entity", e.g. entities/marxbot/
+// dynamics3d_model.cpp registers "dynamics3d:marxbot"): the code that builds
+// that type's bodies and joints in the engine, steps its motors and writes
+// its state back. The registration lists the components (core/component.h)
+// the model simulates; devices name the components they need, and the host
+// checks one against the other when it attaches a device and whenever a
+// robot migrates (core/simulation.cpp). A missing pair is a load-time error
+// naming both.
 #pragma once
 
 #include <optional>
@@ -22,7 +31,11 @@ namespace colony {
 
 class Simulation;
 
-// Engine-specific description of how an entity type is simulated.
+// How one engine simulates one entity type. The host makes one instance per
+// engine and entity type of an experiment, so a model may keep the entities
+// it was given in that engine and step them as a batch. Each engine defines
+// the interface its models implement (a subclass of this, in the engine's
+// header), and calls it from AddEntity, Step and RemoveEntity.
 class PhysicsModel {
  public:
   virtual ~PhysicsModel() = default;
@@ -36,17 +49,14 @@ class PhysicsEngine : public NamedSimulationBound {
   // checked against the registered list).
   virtual void Configure(const ConfigNode& node) { (void)node; }
   // Takes the entity in slot `entity` under this engine, simulated by `model`
-  // (the model registered for this engine and the entity's type), starting
-  // from its pose and velocity in the space (it may be migrating in).
-  virtual void AddEntity(EntityHandle entity, const PhysicsModel& model) = 0;
+  // (this engine's instance of the model registered for this engine and the
+  // entity's type), starting from its pose and velocity in the space (it may
+  // be migrating in).
+  virtual void AddEntity(EntityHandle entity, PhysicsModel& model) = 0;
   virtual void RemoveEntity(EntityHandle entity) = 0;
-  // Whether it simulates grippers (GripperState in the space): holding
-  // what a robot grips.
-  virtual bool SimulatesGripping() const { return false; }
-  // Whether it simulates the construction manipulator (ManipulatorState):
-  // its joints and its magnet.
-  virtual bool SimulatesManipulator() const { return false; }
-  // Whether it simulates the third dimension (gravity, falling, stacking).
+  // Whether it simulates the third dimension (gravity, falling, stacking):
+  // the engines of one experiment must agree (a property of the engine, not
+  // of what it simulates of a robot).
   virtual bool Is3D() const { return false; }
   // Advances the owned entities by dt seconds.
   virtual void Step(double dt) = 0;

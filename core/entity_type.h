@@ -77,6 +77,13 @@ class EntityType {
   virtual bool has_body() const { return true; }
   // Whether it carries a controller.
   virtual bool is_robot() const { return false; }
+  // How to give an entity of this type the component called `name` when it
+  // lacks it (e.g. "declare the marxbot with manipulator=\"true\""), for
+  // messages; "" if there is no way.
+  virtual std::string ComponentHint(std::string_view name) const {
+    (void)name;
+    return "";
+  }
   virtual const DeviceMounts& mounts() const {
     static const DeviceMounts kNone;
     return kNone;

@@ -347,7 +347,7 @@ class ExperimentLoader {
   bool LoadLibraryAttribute(const ConfigNode& node);
   bool ReadEntityDesc(const ConfigNode& node, const EntityType& type, EntityDesc& desc, bool needs_body);
   std::string CheckPlacement(const EntityDesc& desc);
-  std::vector<int> EnginesFor(const EntityDesc& desc, const std::vector<const PhysicsModel*>& models,
+  std::vector<int> EnginesFor(const EntityDesc& desc, const std::vector<PhysicsModel*>& models,
                               const ConfigNode& node);
   void ReadBoundaries(const ConfigNode& engine_node, PhysicsEngine& engine);
   template <class System>
@@ -867,7 +867,7 @@ EntityHandle ExperimentLoader::BuildEntity(const ConfigNode& node, const Pose* p
   return sim_.Instantiate(desc, models.data(), engines, node);
 }
 
-std::vector<int> ExperimentLoader::EnginesFor(const EntityDesc& desc, const std::vector<const PhysicsModel*>& models,
+std::vector<int> ExperimentLoader::EnginesFor(const EntityDesc& desc, const std::vector<PhysicsModel*>& models,
                                               const ConfigNode& node) {
   std::vector<int> chosen;
   const auto& init = desc.init;

@@ -37,19 +37,23 @@ struct AttributeDoc {
 
 struct PluginInfo {
   PluginInfo(PluginKind kind, std::string label, std::string implementation, std::string summary,
-             std::vector<AttributeDoc> attributes = {}, std::vector<std::string> aliases = {})
+             std::vector<AttributeDoc> attributes = {}, std::vector<std::string> aliases = {},
+             std::vector<std::string> components = {})
       : kind(kind),
         label(std::move(label)),
         implementation(std::move(implementation)),
         summary(std::move(summary)),
         attributes(std::move(attributes)),
-        aliases(std::move(aliases)) {}
+        aliases(std::move(aliases)),
+        components(std::move(components)) {}
   PluginKind kind = PluginKind::kEntity;
   std::string label;           // the XML element name
   std::string implementation;  // "default" unless a plugin has several
   std::string summary;
   std::vector<AttributeDoc> attributes;
   std::vector<std::string> aliases;  // other accepted element names
+  // Physics models: the components (core/component.h) they simulate.
+  std::vector<std::string> components;
   std::string library;               // filled in when loaded from a shared library
   std::vector<std::string> AttributeNames() const;
 };
@@ -144,10 +148,11 @@ class Renderer;
 #define COLONY_REGISTER_ENGINE(CLASS, LABEL, SUMMARY, ...)                                         \
   COLONY_REGISTER_PLUGIN_(::colony::PhysicsEngine, ::colony::PluginKind::kEngine, CLASS, LABEL,    \
                           "default", SUMMARY, __VA_ARGS__)
-// Label "engine:entity", e.g. "kinematics2d:marxbot".
-#define COLONY_REGISTER_PHYSICS_MODEL(CLASS, LABEL, SUMMARY)                                     \
-  COLONY_REGISTER_PLUGIN_(::colony::PhysicsModel, ::colony::PluginKind::kPhysicsModel, CLASS,    \
-                          LABEL, "default", SUMMARY)
+// Label "engine:entity", e.g. "kinematics2d:marxbot"; COMPONENTS, the
+// components it simulates, e.g. (std::vector<std::string>{"drive", "gripper"}).
+#define COLONY_REGISTER_PHYSICS_MODEL(CLASS, LABEL, SUMMARY, COMPONENTS)                       \
+  COLONY_REGISTER_PLUGIN_(::colony::PhysicsModel, ::colony::PluginKind::kPhysicsModel, CLASS,  \
+                          LABEL, "default", SUMMARY, {}, {}, COMPONENTS)
 #define COLONY_REGISTER_SENSOR(CLASS, LABEL, IMPLEMENTATION, SUMMARY, ...)                         \
   COLONY_REGISTER_PLUGIN_(::colony::SensorSystem, ::colony::PluginKind::kSensor, CLASS, LABEL,     \
                           IMPLEMENTATION, SUMMARY, __VA_ARGS__)

@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "core/crash_report.h"
+#include "core/text.h"
 
 namespace colony {
 
@@ -35,7 +36,7 @@ Simulation::~Simulation() {
   }
 }
 
-EntityHandle Simulation::Instantiate(const EntityDesc& desc, const PhysicsModel* const* models,
+EntityHandle Simulation::Instantiate(const EntityDesc& desc, PhysicsModel* const* models,
                                      const std::vector<int>& engines, const ConfigNode& where) {
   const EntityHandle h = space_.Add(desc.init);
   if (engine_of_.size() < space_.slots()) {
@@ -73,16 +74,14 @@ void Simulation::AttachController(Robot& robot, const ConfigNode& where) {
   robot.actuators = std::make_unique<Actuator*[]>(na);
   const std::string type = space_.TypeLabel(space_.type(robot.entity.index));
   bool attached = true;
-  // The devices' needs of the engine, checked here for every device (and
-  // again in Migrate); the "has no gripper"-kind checks stay in Attach.
-  auto engine_problem = [&](auto* system) -> std::string {
-    const PhysicsEngine* engine = EngineOf(robot.entity);
-    const std::string problem = engine ? system->EngineProblem(*engine) : "";
-    return problem.empty() ? "" : "its physics engine (" + EngineName(engine) + ") " + problem;
+  // What the devices need of the robot and its engine, checked here for
+  // every device (and again in Migrate).
+  auto component_problem = [&](auto* system) -> std::string {
+    return ComponentProblem(robot.entity.index, system->NeededComponents(), EngineOf(robot.entity), true);
   };
   for (size_t i = 0; i < ns; ++i) {
     try {
-      if (std::string problem = engine_problem(config.sensors[i]); !problem.empty()) throw AttachError(problem);
+      if (std::string problem = component_problem(config.sensors[i]); !problem.empty()) throw AttachError(problem);
       robot.sensors[i] = config.sensors[i]->Attach(
           robot.entity, RandomStream::For(seed_, robot.id, "sensor/" + config.sensor_labels[i]));
     } catch (const AttachError& e) {
@@ -94,7 +93,7 @@ void Simulation::AttachController(Robot& robot, const ConfigNode& where) {
   }
   for (size_t i = 0; i < na; ++i) {
     try {
-      if (std::string problem = engine_problem(config.actuators[i]); !problem.empty()) throw AttachError(problem);
+      if (std::string problem = component_problem(config.actuators[i]); !problem.empty()) throw AttachError(problem);
       robot.actuators[i] = config.actuators[i]->Attach(
           robot.entity, RandomStream::For(seed_, robot.id, "actuator/" + config.actuator_labels[i]));
     } catch (const AttachError& e) {
@@ -211,21 +210,60 @@ void Simulation::CheckDevicesCanMigrate(uint32_t slot, const PhysicsEngine& from
   if (robot_of_[slot] < 0) return;
   const Robot& robot = robots_[robot_of_[slot]];
   const ControllerConfig& config = *robot.config;
-  auto refuse = [&](const char* kind, const std::string& label, const std::string& problem) {
+  auto check = [&](const char* kind, const std::string& label, const std::vector<std::string>& needed) {
+    const std::string problem = ComponentProblem(slot, needed, &to, false);
+    if (problem.empty()) return;
     throw RuntimeFailure("robot '" + robot.id + "' crossed at tick " + std::to_string(tick_ + 1) + " from " +
                          EngineName(&from) + " into the region of " + EngineName(&to) + ", which cannot simulate its " +
-                         kind + " '" + label + "': " + EngineName(&to) + " " + problem +
+                         kind + " '" + label + "': " + problem +
                          "; keep such robots inside the regions of engines that simulate it (walls, or "
                          "boundaries)");
   };
   for (size_t i = 0; i < config.sensors.size(); ++i) {
-    const std::string problem = config.sensors[i]->EngineProblem(to);
-    if (!problem.empty()) refuse("sensor", config.sensor_labels[i], problem);
+    check("sensor", config.sensor_labels[i], config.sensors[i]->NeededComponents());
   }
   for (size_t i = 0; i < config.actuators.size(); ++i) {
-    const std::string problem = config.actuators[i]->EngineProblem(to);
-    if (!problem.empty()) refuse("actuator", config.actuator_labels[i], problem);
+    check("actuator", config.actuator_labels[i], config.actuators[i]->NeededComponents());
   }
+}
+
+std::string Simulation::ComponentProblem(uint32_t slot, const std::vector<std::string>& needed,
+                                         const PhysicsEngine* engine, bool attaching) const {
+  if (needed.empty()) return "";
+  const uint16_t type = space_.type(slot);
+  const std::string& type_label = space_.TypeLabel(type);
+  const PluginInfo* model = nullptr;
+  if (engine) {
+    const auto key = std::make_pair(engine, type);
+    auto it = model_info_.find(key);
+    if (it == model_info_.end()) {
+      const auto* entry = Registry<PhysicsModel>::Get().Find(engine->label() + ":" + type_label);
+      it = model_info_.emplace(key, entry ? &entry->info : nullptr).first;
+    }
+    model = it->second;
+  }
+  for (const std::string& name : needed) {
+    if (!space_.Has(slot, ComponentTypeNamed(name))) {
+      const EntityType* entity_type = type < entity_types_.size() ? entity_types_[type].first : nullptr;
+      const std::string hint = entity_type ? entity_type->ComponentHint(name) : "";
+      return "it has no " + name + (hint.empty() ? "" : "; " + hint);
+    }
+    if (!engine || !model) continue;
+    const auto& simulated = model->components;
+    if (std::find(simulated.begin(), simulated.end(), name) != simulated.end()) continue;
+    // Engines whose model of this entity type simulates it.
+    std::vector<std::string> others;
+    const std::string suffix = ":" + type_label;
+    for (const PluginInfo* info : AllPlugins()) {
+      if (info->kind != PluginKind::kPhysicsModel || !info->label.ends_with(suffix)) continue;
+      if (std::find(info->components.begin(), info->components.end(), name) == info->components.end()) continue;
+      others.push_back(info->label.substr(0, info->label.size() - suffix.size()));
+    }
+    return (attaching ? "its physics engine (" + EngineName(engine) + ")" : EngineName(engine)) +
+           " does not simulate the " + name + " of a " + type_label +
+           (others.empty() ? "; no engine does" : "; use " + Join(others, " or "));
+  }
+  return "";
 }
 
 void Simulation::Act() {

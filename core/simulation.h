@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -169,14 +170,22 @@ class Simulation {
 
   // Adds a described entity to the space, an engine and (robots) a controller.
   // `engines`: the engines it goes into (one if movable).
-  EntityHandle Instantiate(const EntityDesc& desc, const PhysicsModel* const* models,
+  EntityHandle Instantiate(const EntityDesc& desc, PhysicsModel* const* models,
                            const std::vector<int>& engines, const ConfigNode& where);
   // Hands movable entities that left their engine's region to the engine
   // whose region now holds them.
   void Migrate();
   // Throws RuntimeFailure when a device of the robot in `slot` cannot work
-  // in `to` (see SensorSystem::EngineProblem).
+  // in `to` (ComponentProblem).
   void CheckDevicesCanMigrate(uint32_t slot, const PhysicsEngine& from, const PhysicsEngine& to) const;
+  // The one check of what a device needs (SensorSystem::NeededComponents):
+  // why the entity in `slot` cannot use a device needing the components
+  // `needed` while `engine` simulates it (null: not checked against an
+  // engine): a component it does not carry, or one the engine's model of
+  // its type does not simulate; "" if it can. The engine is named "its
+  // physics engine (...)" when `attaching`, plainly otherwise.
+  std::string ComponentProblem(uint32_t slot, const std::vector<std::string>& needed,
+                               const PhysicsEngine* engine, bool attaching) const;
   void AttachController(Robot& robot, const ConfigNode& where);
   void Act();
   void SenseAndControl();
@@ -201,7 +210,7 @@ class Simulation {
   std::unique_ptr<ThreadPool> pool_;
   std::vector<std::unique_ptr<PhysicsEngine>> engines_;
   // Per entity type: the model of each engine (nullptr: unsupported).
-  std::vector<std::vector<const PhysicsModel*>> models_;
+  std::vector<std::vector<PhysicsModel*>> models_;
   std::vector<std::unique_ptr<PhysicsModel>> model_storage_;
   std::vector<int16_t> engine_of_;  // per space slot
   std::vector<std::unique_ptr<SensorSystem>> sensor_systems_;
@@ -218,6 +227,8 @@ class Simulation {
   StepProfile profile_;
   RandomStream rng_;
   std::vector<std::pair<const EntityType*, uint16_t>> entity_types_;  // by space type id
+  // The registration of each (engine, entity type) model, as looked up.
+  mutable std::map<std::pair<const PhysicsEngine*, uint16_t>, const PluginInfo*> model_info_;
 };
 
 }  // namespace colony

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <stdexcept>
 
 #include "core/bounds.h"
 
@@ -28,6 +29,7 @@ const std::vector<uint32_t>& Space::OfType(uint16_t type) const {
 }
 
 EntityHandle Space::Add(EntityInit init) {
+  if (init.components.size() > 255) throw std::length_error("entity '" + init.id + "' has more than 255 components");
   uint32_t slot;
   if (!free_slots_.empty()) {
     slot = free_slots_.back();
@@ -45,10 +47,9 @@ EntityHandle Space::Add(EntityInit init) {
     contact_.push_back(0);
     led_offset_.push_back(0);
     led_count_.push_back(0);
-    drive_slot_.push_back(-1);
     light_slot_.push_back(-1);
-    gripper_slot_.push_back(-1);
-    manipulator_slot_.push_back(-1);
+    component_begin_.push_back(0);
+    component_count_.push_back(0);
     ids_.emplace_back();
   }
   flags_[slot] = static_cast<uint8_t>(init.flags | kAlive);
@@ -63,20 +64,10 @@ EntityHandle Space::Add(EntityInit init) {
   led_count_[slot] = static_cast<uint16_t>(init.led_count);
   // A light shines in its own colour; other LEDs start off.
   leds_.insert(leds_.end(), init.led_count, init.light_intensity > 0 ? init.color : Color::Black());
-  drive_slot_[slot] = -1;
-  if (init.has_drive) {
-    drive_slot_[slot] = static_cast<int32_t>(drives_.size());
-    drives_.push_back(init.drive);
-  }
-  gripper_slot_[slot] = -1;
-  if (init.has_gripper) {
-    gripper_slot_[slot] = static_cast<int32_t>(grippers_.size());
-    grippers_.emplace_back();
-  }
-  manipulator_slot_[slot] = -1;
-  if (init.has_manipulator) {
-    manipulator_slot_[slot] = static_cast<int32_t>(manipulators_.size());
-    manipulators_.push_back(init.manipulator);
+  component_begin_[slot] = static_cast<uint32_t>(component_refs_.size());
+  component_count_[slot] = static_cast<uint8_t>(init.components.size());
+  for (const auto& item : init.components.items_) {
+    component_refs_.push_back({item->type(), item->AddTo(*this, slot)});
   }
   light_slot_[slot] = -1;
   if (init.light_intensity > 0) {
@@ -106,14 +97,22 @@ void Space::Remove(EntityHandle h) {
   list.erase(std::find(list.begin(), list.end(), slot));
   // Components stay allocated (their slots are not reused); LEDs are zeroed.
   led_count_[slot] = 0;
-  drive_slot_[slot] = -1;
   light_slot_[slot] = -1;
-  gripper_slot_[slot] = -1;
-  manipulator_slot_[slot] = -1;
+  for (uint32_t k = 0; k < component_count_[slot]; ++k) {
+    const ComponentRef& ref = component_refs_[component_begin_[slot] + k];
+    pools_[ref.type]->Release(ref.index);
+  }
+  component_count_[slot] = 0;
   ids_[slot].clear();
   free_slots_.push_back(slot);
   --alive_count_;
   index_dirty_ = true;
+}
+
+std::vector<ComponentType> Space::ComponentsOf(uint32_t i) const {
+  std::vector<ComponentType> out;
+  for (uint32_t k = 0; k < component_count_[i]; ++k) out.push_back(component_refs_[component_begin_[i] + k].type);
+  return out;
 }
 
 EntityHandle Space::Find(std::string_view id) const {
@@ -241,18 +240,9 @@ void Space::Hash(StateHasher& h) const {
     h.Add(t.linear.data(), sizeof(double) * 3);
     h.Add(t.angular.data(), sizeof(double) * 3);
     if (led_count_[i]) h.Add(leds_.data() + led_offset_[i], sizeof(Color) * led_count_[i]);
-    if (const DriveState* d = drive(i)) {
-      const double v[4] = {d->target_left, d->target_right, d->left, d->right};
-      h.Add(v, sizeof v);
-    }
-    if (const GripperState* g = gripper(i)) {
-      const double v[3] = {g->turret, g->want_grip ? 1.0 : 0.0, static_cast<double>(g->held)};
-      h.Add(v, sizeof v);
-    }
-    if (const ManipulatorState* m = manipulator(i)) {
-      const double v[5] = {m->elevation, m->rotation, m->magnet, m->want_magnet ? 1.0 : 0.0,
-                           static_cast<double>(m->held)};
-      h.Add(v, sizeof v);
+    for (uint32_t k = 0; k < component_count_[i]; ++k) {
+      const ComponentRef& ref = component_refs_[component_begin_[i] + k];
+      pools_[ref.type]->HashItem(ref.index, h);
     }
   }
 }

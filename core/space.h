@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "core/color.h"
+#include "core/component.h"
 #include "core/floor.h"
 #include "core/math.h"
 #include "core/state_hash.h"
@@ -65,6 +67,7 @@ enum EntityFlag : uint8_t {
 // Differential drive of a wheeled robot: written by the steering actuator,
 // read by engines; engines write back what the wheels really did.
 struct DriveState {
+  static constexpr const char* kComponentName = "drive";
   double target_left = 0, target_right = 0;  // commanded wheel speeds (m/s)
   double left = 0, right = 0;                // wheel speeds after acceleration limits (m/s)
   double wheel_base = 0;                     // distance between the wheels (m)
@@ -74,40 +77,10 @@ struct DriveState {
   // False when the robot has no power (e.g. its battery is empty): the
   // steering actuator then commands both wheels to stop.
   bool powered = true;
-};
-
-// The marXbot's docking turret and gripper: written by the gripper actuator,
-// acted on by engines that simulate gripping (they set `held`).
-struct GripperState {
-  double turret = 0;         // turret angle from the robot's front, counter-clockwise (rad)
-  double turret_speed = 1;   // most turret rotation per second (rad/s)
-  double reach = 0.02;       // how far beyond the body the jaws close on something (m)
-  bool want_grip = false;    // the controller asks to hold what is in front of the jaws
-  uint32_t held = 0xFFFFFFFFu;  // slot of the held entity, or none
-  bool holding() const { return held != 0xFFFFFFFFu; }
-};
-
-// The marXbot's construction manipulator (seeds 000 and 001): a head that
-// moves up and down (elevation) and turns about the vertical axis between its
-// IR side and its magnet side, carrying a switchable magnet that holds light
-// ferromagnetic objects. Commands are written by the manipulator actuator;
-// the state below them by engines that simulate it (dynamics3d).
-struct ManipulatorState {
-  // Commands.
-  double target_elevation = 0;  // height of the magnet's centre above the floor under the robot (m)
-  double target_rotation = 0;   // head rotation: 0 = magnet side facing the robot's front (rad, ccw)
-  bool want_magnet = false;     // engage (true) or disengage the magnet
-  // Limits (set by the entity; the actuator may override from XML).
-  double min_elevation = 0.03, max_elevation = 0.20;  // m
-  double elevation_speed = 0.05;                      // m/s
-  double rotation_speed = 1.0;                        // rad/s
-  double switch_time = 1.0;                           // s for the magnet to switch over
-  // State, written by the engine.
-  double elevation = 0.03;   // m
-  double rotation = 0;       // rad
-  double magnet = 0;         // 0 disengaged .. 1 engaged; it holds only when fully engaged
-  uint32_t held = 0xFFFFFFFFu;  // slot of the object the magnet holds, or none
-  bool holding() const { return held != 0xFFFFFFFFu; }
+  void Hash(StateHasher& h) const {
+    const double v[4] = {target_left, target_right, left, right};
+    h.Add(v, sizeof v);
+  }
 };
 
 // A point light seen by light sensors.
@@ -126,13 +99,10 @@ class Space {
     uint8_t flags = kSolid;
     Color color = Color::White();
     int led_count = 0;
-    bool has_drive = false;
-    DriveState drive;
     double light_intensity = 0;  // > 0 makes it a light
     double mass = 0;             // kg, for dynamics engines (0: immovable)
-    bool has_gripper = false;
-    bool has_manipulator = false;
-    ManipulatorState manipulator;  // its limits, when has_manipulator
+    // Its parts' state: a drive, a gripper... (core/component.h).
+    ComponentList components;
   };
 
   // Entity types are registered once; their id is a small integer.
@@ -176,23 +146,41 @@ class Space {
   std::span<const Color> leds(uint32_t i) const {
     return {leds_.data() + led_offset_[i], led_count_[i]};
   }
+  // The component of type T of entity `i`, or nullptr if it has none
+  // (core/component.h). A scan of the entity's few components.
+  template <class T>
+  T* Get(uint32_t i) {
+    const ComponentType t = ComponentTypeOf<T>();
+    const ComponentRef* refs = component_refs_.data() + component_begin_[i];
+    for (uint32_t k = 0, n = component_count_[i]; k < n; ++k) {
+      if (refs[k].type == t) return &static_cast<ComponentPool<T>&>(*pools_[t])[refs[k].index];
+    }
+    return nullptr;
+  }
+  template <class T>
+  const T* Get(uint32_t i) const {
+    return const_cast<Space*>(this)->Get<T>(i);
+  }
+  bool Has(uint32_t i, ComponentType type) const {
+    const ComponentRef* refs = component_refs_.data() + component_begin_[i];
+    for (uint32_t k = 0, n = component_count_[i]; k < n; ++k) {
+      if (refs[k].type == type) return true;
+    }
+    return false;
+  }
+  // The component types entity `i` carries, in the order they were added.
+  std::vector<ComponentType> ComponentsOf(uint32_t i) const;
+  // Every item of component type T, with owners (ComponentPoolBase::owner).
+  template <class T>
+  ComponentPool<T>& Pool() {
+    const ComponentType t = ComponentTypeOf<T>();
+    if (pools_.size() <= t) pools_.resize(t + 1);
+    if (!pools_[t]) pools_[t] = std::make_unique<ComponentPool<T>>();
+    return static_cast<ComponentPool<T>&>(*pools_[t]);
+  }
   // Drive of a wheeled robot, or nullptr.
-  DriveState* drive(uint32_t i) { return drive_slot_[i] < 0 ? nullptr : &drives_[drive_slot_[i]]; }
-  const DriveState* drive(uint32_t i) const {
-    return drive_slot_[i] < 0 ? nullptr : &drives_[drive_slot_[i]];
-  }
-  // Turret and gripper of a robot, or nullptr.
-  GripperState* gripper(uint32_t i) { return gripper_slot_[i] < 0 ? nullptr : &grippers_[gripper_slot_[i]]; }
-  const GripperState* gripper(uint32_t i) const {
-    return gripper_slot_[i] < 0 ? nullptr : &grippers_[gripper_slot_[i]];
-  }
-  // Construction manipulator of a robot, or nullptr.
-  ManipulatorState* manipulator(uint32_t i) {
-    return manipulator_slot_[i] < 0 ? nullptr : &manipulators_[manipulator_slot_[i]];
-  }
-  const ManipulatorState* manipulator(uint32_t i) const {
-    return manipulator_slot_[i] < 0 ? nullptr : &manipulators_[manipulator_slot_[i]];
-  }
+  DriveState* drive(uint32_t i) { return Get<DriveState>(i); }
+  const DriveState* drive(uint32_t i) const { return Get<DriveState>(i); }
   const LightSource* light(uint32_t i) const {
     return light_slot_[i] < 0 ? nullptr : &lights_[light_slot_[i]];
   }
@@ -251,16 +239,18 @@ class Space {
   std::vector<uint8_t> contact_;
   std::vector<uint32_t> led_offset_;
   std::vector<uint16_t> led_count_;
-  std::vector<int32_t> drive_slot_;
   std::vector<int32_t> light_slot_;
-  std::vector<int32_t> gripper_slot_;
-  std::vector<int32_t> manipulator_slot_;
+  std::vector<uint32_t> component_begin_;  // into component_refs_
+  std::vector<uint8_t> component_count_;
   // Components, packed.
+  struct ComponentRef {
+    ComponentType type;
+    uint32_t index;  // in pools_[type]
+  };
+  std::vector<ComponentRef> component_refs_;
+  std::vector<std::unique_ptr<ComponentPoolBase>> pools_;  // by component type
   std::vector<Color> leds_;
-  std::vector<DriveState> drives_;
   std::vector<LightSource> lights_;
-  std::vector<GripperState> grippers_;
-  std::vector<ManipulatorState> manipulators_;
   // Cold data.
   std::vector<std::string> ids_;
   std::unordered_map<std::string, uint32_t> by_id_;
@@ -286,5 +276,10 @@ class Space {
   std::vector<uint32_t> cell_scratch_;
   std::vector<uint32_t> cell_cursor_;
 };
+
+template <class T>
+uint32_t ComponentList::Item<T>::AddTo(Space& space, uint32_t slot) const {
+  return space.Pool<T>().Add(slot, value);
+}
 
 }  // namespace colony

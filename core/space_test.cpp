@@ -23,8 +23,7 @@ Space::EntityInit Robot(const std::string& id, uint16_t type, double x, double y
   init.geometry.size = Vec3(2 * radius, 2 * radius, 0.1);
   init.flags = kSolid | kMovable | kRobot;
   init.led_count = 3;
-  init.has_drive = true;
-  init.drive.wheel_base = 0.1;
+  init.components.Add<DriveState>().wheel_base = 0.1;
   return init;
 }
 

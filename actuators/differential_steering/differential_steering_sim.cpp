@@ -22,8 +22,8 @@ class SteeringSystem : public ActuatorSystem {
     max_speed_ = node.GetDouble("max_speed", -1, Range::Positive());
     max_acceleration_ = node.GetDouble("max_acceleration", 3.0, Range::Positive());
   }
+  std::vector<std::string> NeededComponents() const override { return {DriveState::kComponentName}; }
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
-    if (!sim().space().drive(robot.index)) throw AttachError("it has no wheels");
     return &instances_.Add(robot, rng);
   }
   void Detach(Actuator* a) override { instances_.Remove(static_cast<DifferentialSteering*>(a)); }

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "actuators/gripper/gripper.h"
+#include "actuators/gripper/gripper_state.h"
 #include "core/device.h"
 #include "core/simulation.h"
 
@@ -24,15 +25,12 @@ class GripperSystem : public ActuatorSystem {
   }
 
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
-    GripperState* g = sim().space().gripper(robot.index);
-    if (!g) throw AttachError("it has no gripper");
+    GripperState* g = sim().space().Get<GripperState>(robot.index);  // checked by the host
     g->turret_speed = turret_speed_;
     g->reach = reach_;
     return &instances_.Add(robot, rng);
   }
-  std::string EngineProblem(const PhysicsEngine& engine) const override {
-    return engine.SimulatesGripping() ? "" : "does not simulate gripping; use dynamics2d";
-  }
+  std::vector<std::string> NeededComponents() const override { return {GripperState::kComponentName}; }
   void Detach(Actuator* a) override { instances_.Remove(static_cast<GripperActuator*>(a)); }
   size_t size() const override { return instances_.size(); }
 
@@ -42,7 +40,7 @@ class GripperSystem : public ActuatorSystem {
     for (size_t k = begin; k < end; ++k) {
       GripperInstance& a = instances_[k];
       if (!a.alive) continue;
-      GripperState& g = *space.gripper(a.robot.index);
+      GripperState& g = *space.Get<GripperState>(a.robot.index);
       g.want_grip = a.gripping();
       if (g.holding()) continue;
       const double target = std::isfinite(a.turret_target()) ? WrapAngle(a.turret_target()) : g.turret;

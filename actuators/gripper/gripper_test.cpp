@@ -98,7 +98,7 @@ TEST(Gripper, TurretTurnsAtItsSpeed) {
 TEST(Gripper, Kinematics2dRejectsGrippingAtLoadTime) {
   const std::string m = testing::LoadError(Scene("<kinematics2d id=\"k2d\"/>"));
   EXPECT_NE(m.find("<gripper>: robot 'r' (a marxbot"), std::string::npos) << m;
-  EXPECT_NE(m.find("kinematics2d 'k2d') does not simulate gripping; use dynamics2d"), std::string::npos) << m;
+  EXPECT_NE(m.find("kinematics2d 'k2d') does not simulate the gripper of a marxbot; use dynamics2d"), std::string::npos) << m;
 }
 
 // A gripping robot that drives out of the dynamics2d half of the arena into
@@ -124,8 +124,10 @@ TEST(Gripper, DrivingIntoAnEngineThatCannotGripStopsTheRun) {
     message = e.what();
   }
   EXPECT_NE(message.find("robot 'r' crossed at tick "), std::string::npos) << message;
+  // The gripper sensor needs the gripper too; it is checked first.
   EXPECT_NE(message.find("from dynamics2d 'd2d' into the region of kinematics2d 'k2d', which cannot simulate its "
-                         "actuator 'gripper': kinematics2d 'k2d' does not simulate gripping"),
+                         "sensor 'gripper': kinematics2d 'k2d' does not simulate the gripper of a marxbot; use "
+                         "dynamics2d"),
             std::string::npos)
       << message;
   EXPECT_LT(At(*sim, "r").x(), 0.1) << "it stopped at the boundary";

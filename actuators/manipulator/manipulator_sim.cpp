@@ -12,6 +12,7 @@
 #include <string>
 
 #include "actuators/manipulator/manipulator.h"
+#include "actuators/manipulator/manipulator_state.h"
 #include "core/device.h"
 #include "core/simulation.h"
 
@@ -52,13 +53,10 @@ class ManipulatorSystem : public ActuatorSystem {
     }
   }
 
-  std::string EngineProblem(const PhysicsEngine& engine) const override {
-    return engine.SimulatesManipulator() ? "" : "does not simulate the manipulator; use dynamics3d";
-  }
+  std::vector<std::string> NeededComponents() const override { return {ManipulatorState::kComponentName}; }
 
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
-    ManipulatorState* m = sim().space().manipulator(robot.index);
-    if (!m) throw AttachError("it has no manipulator; declare the marxbot with manipulator=\"true\"");
+    ManipulatorState* m = sim().space().Get<ManipulatorState>(robot.index);  // checked by the host
     if (min_elevation_) m->min_elevation = *min_elevation_;
     if (max_elevation_) m->max_elevation = *max_elevation_;
     if (elevation_speed_) m->elevation_speed = *elevation_speed_;
@@ -80,7 +78,7 @@ class ManipulatorSystem : public ActuatorSystem {
     for (size_t k = begin; k < end; ++k) {
       ManipulatorInstance& a = instances_[k];
       if (!a.alive) continue;
-      ManipulatorState& m = *space.manipulator(a.robot.index);
+      ManipulatorState& m = *space.Get<ManipulatorState>(a.robot.index);
       const double elevation = std::isfinite(a.elevation_target()) ? a.elevation_target() : m.elevation;
       m.target_elevation = std::clamp(elevation, m.min_elevation, m.max_elevation);
       m.target_rotation = WrapAngle(std::isfinite(a.rotation_target()) ? a.rotation_target() : m.rotation);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "actuators/manipulator/manipulator_state.h"
 #include "core/registry.h"
 #include "tests/test_util.h"
 
@@ -27,13 +28,12 @@ using testing::LoadXml;
 // fully engaged or disengaged). Nothing moves, nothing is held.
 class ManipulatorDoubleEngine : public PhysicsEngine {
  public:
-  void AddEntity(EntityHandle, const PhysicsModel&) override {}
+  void AddEntity(EntityHandle, PhysicsModel&) override {}
   void RemoveEntity(EntityHandle) override {}
-  bool SimulatesManipulator() const override { return true; }
   void Step(double) override {
     Space& space = sim().space();
     for (uint32_t s = 0; s < space.slots(); ++s) {
-      ManipulatorState* m = space.alive(s) && Owns(s) ? space.manipulator(s) : nullptr;
+      ManipulatorState* m = space.alive(s) && Owns(s) ? space.Get<ManipulatorState>(s) : nullptr;
       if (!m) continue;
       m->elevation = m->target_elevation;
       m->rotation = m->target_rotation;
@@ -44,7 +44,8 @@ class ManipulatorDoubleEngine : public PhysicsEngine {
 class DoubleModel : public PhysicsModel {};
 COLONY_REGISTER_ENGINE(ManipulatorDoubleEngine, "manipulator_actuator_double",
                        "test double: heads jump to their commands; nothing moves", {});
-COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_actuator_double:marxbot", "test double");
+COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_actuator_double:marxbot", "test double",
+                              (std::vector<std::string>{"drive", "manipulator"}));
 
 // Sends what the test puts in its public fields every control step.
 class ManipulatorDriver : public Controller {
@@ -86,7 +87,7 @@ std::unique_ptr<Simulation> Load(const std::string& attributes = "") {
 ManipulatorDriver& Driver(Simulation& sim) {
   return dynamic_cast<ManipulatorDriver&>(*sim.ControllerOf(sim.space().Find("r")));
 }
-const ManipulatorState& State(Simulation& sim) { return *sim.space().manipulator(sim.space().Find("r").index); }
+const ManipulatorState& State(Simulation& sim) { return *sim.space().Get<ManipulatorState>(sim.space().Find("r").index); }
 
 // Steps until a command given now has reached the state (it is sent at the
 // end of the next tick and written at the start of the one after).
@@ -218,7 +219,7 @@ TEST(ManipulatorActuator, RobotWithoutManipulatorIsRejected) {
 TEST(ManipulatorActuator, EnginesThatDoNotSimulateItRejectItAtLoadTime) {
   const std::string m = LoadError(Experiment(Robot("r"), Controllers(), "4,4,1", "", "<kinematics2d id=\"k2d\"/>"));
   ExpectMentions(m, {"<manipulator>: robot 'r' (a marxbot",
-                     "its physics engine (kinematics2d 'k2d') does not simulate the manipulator; use dynamics3d"});
+                     "its physics engine (kinematics2d 'k2d') does not simulate the manipulator of a marxbot; use dynamics3d"});
 }
 
 TEST(ManipulatorActuator, RegisteredAttributesMatchTheReadme) {

@@ -18,6 +18,7 @@
 #include <memory>
 #include <vector>
 
+#include "actuators/gripper/gripper_state.h"
 #include "core/engine.h"
 #include "core/simulation.h"
 
@@ -46,11 +47,14 @@ class ObjectModel : public Dynamics2dModel {
 };
 
 COLONY_REGISTER_PHYSICS_MODEL(WheeledRobotModel, "dynamics2d:marxbot",
-                              "circular body driven by force- and torque-limited treels (slip when pushing hard)");
+                              "circular body driven by force- and torque-limited treels (slip when pushing hard)",
+                              (std::vector<std::string>{"drive", "gripper"}));
 COLONY_REGISTER_PHYSICS_MODEL(ObjectModel, "dynamics2d:box",
-                              "box: pushed against floor friction if movable, static otherwise");
+                              "box: pushed against floor friction if movable, static otherwise",
+                              (std::vector<std::string>{}));
 COLONY_REGISTER_PHYSICS_MODEL(ObjectModel, "dynamics2d:cylinder",
-                              "cylinder: pushed against floor friction if movable, static otherwise");
+                              "cylinder: pushed against floor friction if movable, static otherwise",
+                              (std::vector<std::string>{}));
 
 class Dynamics2dEngine : public PhysicsEngine {
  public:
@@ -69,7 +73,7 @@ class Dynamics2dEngine : public PhysicsEngine {
     max_torque_ = node.GetDouble("robot_max_torque", 1.5, Range::Positive());
   }
 
-  void AddEntity(EntityHandle entity, const PhysicsModel& model) override {
+  void AddEntity(EntityHandle entity, PhysicsModel& model) override {
     const auto& m = dynamic_cast<const Dynamics2dModel&>(model);
     Space& space = sim().space();
     const uint32_t s = entity.index;
@@ -123,8 +127,6 @@ class Dynamics2dEngine : public PhysicsEngine {
     }
   }
 
-  bool SimulatesGripping() const override { return true; }
-
   void RemoveEntity(EntityHandle entity) override {
     const uint32_t s = entity.index;
     if (s >= bodies_.size() || !bodies_[s]) return;
@@ -161,10 +163,10 @@ class Dynamics2dEngine : public PhysicsEngine {
   // the jaws of robots that want to hold something.
   void UpdateGrips(Space& space) {
     for (size_t k = grips_.size(); k-- > 0;) {
-      if (!space.gripper(grips_[k].robot)->want_grip) Ungrip(space, k);
+      if (!space.Get<GripperState>(grips_[k].robot)->want_grip) Ungrip(space, k);
     }
     for (uint32_t s : robots_) {
-      GripperState* g = space.gripper(s);
+      GripperState* g = space.Get<GripperState>(s);
       if (!g || !g->want_grip || g->holding()) continue;
       b2Body* body = bodies_[s];
       const double angle = body->GetAngle() + g->turret;
@@ -208,7 +210,7 @@ class Dynamics2dEngine : public PhysicsEngine {
 
   void Ungrip(Space& space, size_t k) {
     world_->DestroyJoint(grips_[k].joint);
-    if (GripperState* g = space.gripper(grips_[k].robot)) g->held = 0xFFFFFFFFu;
+    if (GripperState* g = space.Get<GripperState>(grips_[k].robot)) g->held = 0xFFFFFFFFu;
     grips_.erase(grips_.begin() + static_cast<std::ptrdiff_t>(k));
   }
 

@@ -1,6 +1,7 @@
 // dynamics2d: robots push movable objects, cannot move fixed ones, and slip
 // when they push too hard.
 #include "actuators/differential_steering/differential_steering.h"
+#include "actuators/gripper/gripper_state.h"
 #include "sensors/wheel_encoders/wheel_encoders.h"
 #include "tests/test_util.h"
 
@@ -101,7 +102,7 @@ TEST(Dynamics2dExamples, GrippingExperimentDragsTheCylinderIntoTheCorner) {
   const Vec3 end = sim->space().pose(cylinder).position;
   EXPECT_GT((end - start).norm(), 1.5) << "the cylinder was dragged across the arena";
   EXPECT_LT(std::hypot(end.x() - 1.3, end.y() - 1.3), 0.1) << "it ends at the corner";
-  EXPECT_FALSE(sim->space().gripper(sim->space().Find("mb").index)->holding()) << "and was let go";
+  EXPECT_FALSE(sim->space().Get<GripperState>(sim->space().Find("mb").index)->holding()) << "and was let go";
 }
 
 }  // namespace

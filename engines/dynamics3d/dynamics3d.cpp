@@ -36,6 +36,7 @@
 #include <mutex>
 #include <vector>
 
+#include "actuators/manipulator/manipulator_state.h"
 #include "core/engine.h"
 #include "core/simulation.h"
 #include "entities/marxbot/marxbot.h"
@@ -156,13 +157,17 @@ struct CubeModel : Dynamics3dModel {
 COLONY_REGISTER_PHYSICS_MODEL(MarxbotModel, "dynamics3d:marxbot",
                               "one body on two treels of two wheels each, whose treads move at the wheel speeds "
                               "(torque-limited, slip); with manipulator=\"true\" a motor-driven head carrying a "
-                              "magnet");
-COLONY_REGISTER_PHYSICS_MODEL(BoxModel, "dynamics3d:box", "box: a body of its mass if movable, static geometry otherwise");
+                              "magnet",
+                              (std::vector<std::string>{"drive", "manipulator"}));
+COLONY_REGISTER_PHYSICS_MODEL(BoxModel, "dynamics3d:box", "box: a body of its mass if movable, static geometry otherwise",
+                              (std::vector<std::string>{}));
 COLONY_REGISTER_PHYSICS_MODEL(CylinderModel, "dynamics3d:cylinder",
-                              "upright cylinder: a body of its mass if movable, static geometry otherwise");
+                              "upright cylinder: a body of its mass if movable, static geometry otherwise",
+                              (std::vector<std::string>{}));
 COLONY_REGISTER_PHYSICS_MODEL(CubeModel, "dynamics3d:cube",
                               "construction cube: held by the manipulator's magnet; self-aligns and bonds when "
-                              "it lands on another cube within the capture tolerance");
+                              "it lands on another cube within the capture tolerance",
+                              (std::vector<std::string>{}));
 
 // ---------------------------------------------------------------------------
 class Dynamics3dEngine : public PhysicsEngine {
@@ -219,9 +224,8 @@ class Dynamics3dEngine : public PhysicsEngine {
   }
 
   bool Is3D() const override { return true; }
-  bool SimulatesManipulator() const override { return true; }
 
-  void AddEntity(EntityHandle entity, const PhysicsModel& model) override {
+  void AddEntity(EntityHandle entity, PhysicsModel& model) override {
     InitOde();
     const Kind kind = dynamic_cast<const Dynamics3dModel&>(model).kind();
     const Space& space = sim().space();
@@ -411,7 +415,7 @@ class Dynamics3dEngine : public PhysicsEngine {
     Slot& slot = slots_[s];
     const Geometry& g = space.geometry(s);
     const DriveState& drive = *space.drive(s);
-    const ManipulatorState* manip = space.manipulator(s);
+    const ManipulatorState* manip = space.Get<ManipulatorState>(s);
     const Pose& pose = space.pose(s);
     const Twist& twist = space.twist(s);
     const double total = space.mass(s) > 0 ? space.mass(s) : kMass;
@@ -658,7 +662,7 @@ class Dynamics3dEngine : public PhysicsEngine {
   double Rotation(const Robot& r) const { return WrapAngle(r.rotation0 + dJointGetPistonAngle(r.piston)); }
 
   void DriveHead(const Space& space, Robot& r, double h) {
-    const ManipulatorState& m = *space.manipulator(r.slot);
+    const ManipulatorState& m = *space.Get<ManipulatorState>(r.slot);
     const double lo = std::min(m.min_elevation, m.max_elevation), hi = std::max(m.min_elevation, m.max_elevation);
     const double target = std::clamp(std::isfinite(m.target_elevation) ? m.target_elevation : lo, lo, hi);
     const double e = Elevation(r);
@@ -675,7 +679,7 @@ class Dynamics3dEngine : public PhysicsEngine {
   // Switches the magnet over, lets go when it is no longer fully engaged,
   // and holds what it touches when it is.
   void UpdateMagnet(Space& space, Robot& r, double dt) {
-    ManipulatorState& m = *space.manipulator(r.slot);
+    ManipulatorState& m = *space.Get<ManipulatorState>(r.slot);
     const double step = m.switch_time > 0 ? dt / m.switch_time : 1.0;
     m.magnet = std::clamp(m.magnet + (m.want_magnet ? step : -step), 0.0, 1.0);
     // Summing dt / switch_time falls short of 1 (or 0) by a rounding error:
@@ -844,7 +848,7 @@ class Dynamics3dEngine : public PhysicsEngine {
     d.travelled_left = (std::isfinite(d.left) ? d.left : 0.0) * dt;
     d.travelled_right = (std::isfinite(d.right) ? d.right : 0.0) * dt;
     if (!r.head) return;
-    ManipulatorState& m = *space.manipulator(r.slot);
+    ManipulatorState& m = *space.Get<ManipulatorState>(r.slot);
     m.elevation = Elevation(r);
     m.rotation = Rotation(r);
     m.held = r.held;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "actuators/manipulator/manipulator_state.h"
 #include "core/registry.h"
 #include "tests/test_util.h"
 
@@ -63,7 +64,7 @@ void SetWheels(Simulation& sim, const std::string& id, double left, double right
 }
 
 ManipulatorState& Manipulator(Simulation& sim, const std::string& id) {
-  return *sim.space().manipulator(SlotOf(sim, id));
+  return *sim.space().Get<ManipulatorState>(SlotOf(sim, id));
 }
 
 void RunFor(Simulation& sim, double seconds) {

@@ -1,7 +1,9 @@
 // kinematics2d: the fastest engine, for very large swarms. Velocity-driven,
-// no forces, on the floor plane.
+// no forces, on the floor plane. It knows no robot type: an entity type's
+// model (kinematics2d.h; e.g. entities/marxbot/kinematics2d_model.cpp) says
+// whether its entities are discs driven by their DriveState or obstacles.
 //
-// Each tick every wheeled robot proposes the pose its wheel speeds take it to
+// Each tick every driven disc ("robot" below) proposes the pose its wheel speeds take it to
 // (exact for a constant turn rate over the tick). A robot whose proposal
 // would overlap a wall, an object, another robot or leave the arena is
 // blocked: it keeps its position and only turns (its footprint is a circle,
@@ -16,40 +18,12 @@
 #include <bit>
 #include <vector>
 
-#include "core/engine.h"
+#include "engines/kinematics2d/kinematics2d.h"
 #include "core/geometry2d.h"
 #include "core/simulation.h"
 
 namespace colony {
 namespace {
-
-class Kinematics2dModel : public PhysicsModel {
- public:
-  explicit Kinematics2dModel(bool driven) : driven_(driven) {}
-  bool driven() const { return driven_; }
-
- private:
-  bool driven_;
-};
-
-// A robot driven by its wheels.
-class WheeledRobotModel : public Kinematics2dModel {
- public:
-  WheeledRobotModel() : Kinematics2dModel(true) {}
-};
-
-// Anything else solid: a fixed obstacle.
-class ObstacleModel : public Kinematics2dModel {
- public:
-  ObstacleModel() : Kinematics2dModel(false) {}
-};
-
-COLONY_REGISTER_PHYSICS_MODEL(WheeledRobotModel, "kinematics2d:marxbot",
-                              "circular footprint moved by its differential drive; stops at obstacles");
-COLONY_REGISTER_PHYSICS_MODEL(ObstacleModel, "kinematics2d:box",
-                              "fixed obstacle, movable or not (not pushed in this engine)");
-COLONY_REGISTER_PHYSICS_MODEL(ObstacleModel, "kinematics2d:cylinder",
-                              "fixed obstacle, movable or not (not pushed in this engine)");
 
 // Memory layout. A step sweeps the robots three times: proposals and commit
 // read and write each robot's own state in the space (pose, drive, twist),
@@ -65,9 +39,11 @@ COLONY_REGISTER_PHYSICS_MODEL(ObstacleModel, "kinematics2d:cylinder",
 // set of blocked robots is the same whatever the order it is computed in.
 class Kinematics2dEngine : public PhysicsEngine {
  public:
-  void AddEntity(EntityHandle entity, const PhysicsModel& model) override {
-    const auto& m = dynamic_cast<const Kinematics2dModel&>(model);
-    if (!m.driven() || !sim().space().drive(entity.index)) return;  // obstacles are read from the space
+  void AddEntity(EntityHandle entity, PhysicsModel& model) override {
+    const auto* m = dynamic_cast<const Kinematics2dModel*>(&model);
+    if (!m) throw RuntimeFailure("the kinematics2d model of '" + sim().space().TypeLabel(sim().space().type(entity.index)) +
+                                 "' is not a Kinematics2dModel (engines/kinematics2d/kinematics2d.h)");
+    if (!m->driven() || !sim().space().drive(entity.index)) return;  // obstacles are read from the space
     // Incremental (not Reindex()): loading 100,000 robots must stay linear.
     if (robot_index_.size() <= entity.index) robot_index_.resize(entity.index + 1, -1);
     robot_index_[entity.index] = static_cast<int32_t>(robots_.size());

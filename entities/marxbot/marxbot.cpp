@@ -1,5 +1,7 @@
 #include "entities/marxbot/marxbot.h"
 
+#include "actuators/gripper/gripper_state.h"
+#include "actuators/manipulator/manipulator_state.h"
 #include "core/entity_type.h"
 
 namespace colony {
@@ -27,20 +29,23 @@ class MarxbotType : public EntityType {
     init.flags = kSolid | kMovable | kRobot;
     init.color = node.GetColor("color", Color{60, 60, 60, 255});
     init.led_count = kLedCount;
-    init.has_drive = true;
-    init.has_gripper = true;
-    init.drive.wheel_base = kWheelBase;
-    init.drive.wheel_radius = kWheelRadius;
-    init.drive.max_speed = kMaxSpeed;
+    DriveState& drive = init.components.Add<DriveState>();
+    drive.wheel_base = kWheelBase;
+    drive.wheel_radius = kWheelRadius;
+    drive.max_speed = kMaxSpeed;
+    init.components.Add<GripperState>();
     desc.init.mass = kMass;
     // The construction manipulator (seed 000, 2.2.2; seed 004, 3.3).
     if (node.GetBool("manipulator", false)) {
-      init.has_manipulator = true;
+      init.components.Add<ManipulatorState>();
       init.geometry.size.z() = kHeightWithManipulator;
       init.mass = kMass + kManipulatorMass;
     }
   }
   bool is_robot() const override { return true; }
+  std::string ComponentHint(std::string_view name) const override {
+    return name == ManipulatorState::kComponentName ? "declare the marxbot with manipulator=\"true\"" : "";
+  }
   const DeviceMounts& mounts() const override { return mounts_; }
 
  private:

@@ -1,4 +1,5 @@
 // Simulated gripper sensor: the turret angle and the holding state from the space.
+#include "actuators/gripper/gripper_state.h"
 #include "core/device.h"
 #include "core/simulation.h"
 #include "sensors/gripper/gripper.h"
@@ -17,8 +18,8 @@ struct GripperSensorInstance : GripperSensor, InstanceBase {
 class GripperSensorSystem : public SensorSystem {
  public:
   void Configure(const ConfigNode& node) override { (void)node; }
+  std::vector<std::string> NeededComponents() const override { return {GripperState::kComponentName}; }
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
-    if (!sim().space().gripper(robot.index)) throw AttachError("it has no gripper");
     return &instances_.Add(robot, rng);
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<GripperSensor*>(s)); }
@@ -28,7 +29,7 @@ class GripperSensorSystem : public SensorSystem {
     for (size_t k = begin; k < end; ++k) {
       GripperSensorInstance& s = instances_[k];
       if (!s.alive) continue;
-      const GripperState& g = *space.gripper(s.robot.index);
+      const GripperState& g = *space.Get<GripperState>(s.robot.index);
       s.Set(g.turret, g.holding());
     }
   }

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <vector>
 
+#include "actuators/manipulator/manipulator_state.h"
 #include "core/device.h"
 #include "core/geometry2d.h"
 #include "core/simulation.h"
@@ -61,14 +62,9 @@ class ManipulatorSensorSystem : public SensorSystem {
     noise_ = NoiseModel::Read(node);
   }
 
-  std::string EngineProblem(const PhysicsEngine& engine) const override {
-    return engine.SimulatesManipulator() ? "" : "does not simulate the manipulator; use dynamics3d";
-  }
+  std::vector<std::string> NeededComponents() const override { return {ManipulatorState::kComponentName}; }
 
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
-    if (!sim().space().manipulator(robot.index)) {
-      throw AttachError("it has no manipulator; declare the marxbot with manipulator=\"true\"");
-    }
     ManipulatorSensorInstance& s = instances_.Add(robot, rng);
     for (int i = 0; i < kIrCount; ++i) s.mutable_readings().push_back({0.0f, static_cast<float>(IrAngle(i))});
     return &s;
@@ -88,7 +84,7 @@ class ManipulatorSensorSystem : public SensorSystem {
       ManipulatorSensorInstance& s = instances_[k];
       if (!s.alive) continue;
       const uint32_t self = s.robot.index;
-      const ManipulatorState& m = *space.manipulator(self);
+      const ManipulatorState& m = *space.Get<ManipulatorState>(self);
       s.SetJoints(m);
       const Pose& pose = space.pose(self);
       const double reach = kIrReach + range_;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "actuators/manipulator/manipulator.h"
+#include "actuators/manipulator/manipulator_state.h"
 #include "core/registry.h"
 #include "tests/test_util.h"
 
@@ -29,13 +30,12 @@ using testing::LoadXml;
 // set by the tests.
 class ManipulatorDoubleEngine : public PhysicsEngine {
  public:
-  void AddEntity(EntityHandle, const PhysicsModel&) override {}
+  void AddEntity(EntityHandle, PhysicsModel&) override {}
   void RemoveEntity(EntityHandle) override {}
-  bool SimulatesManipulator() const override { return true; }
   void Step(double dt) override {
     Space& space = sim().space();
     for (uint32_t s = 0; s < space.slots(); ++s) {
-      ManipulatorState* m = space.alive(s) && Owns(s) ? space.manipulator(s) : nullptr;
+      ManipulatorState* m = space.alive(s) && Owns(s) ? space.Get<ManipulatorState>(s) : nullptr;
       if (!m) continue;
       m->elevation = m->target_elevation;
       m->rotation = m->target_rotation;
@@ -48,9 +48,10 @@ class ManipulatorDoubleEngine : public PhysicsEngine {
 class DoubleModel : public PhysicsModel {};
 COLONY_REGISTER_ENGINE(ManipulatorDoubleEngine, "manipulator_sensor_double",
                        "test double: heads jump to their commands; nothing moves", {});
-COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:marxbot", "test double");
-COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:cube", "test double");
-COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:box", "test double");
+COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:marxbot", "test double",
+                              (std::vector<std::string>{"drive", "manipulator"}));
+COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:cube", "test double", {});
+COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:box", "test double", {});
 
 // Sends the commands in its public fields and copies what the sensor read.
 class ManipulatorProbe : public Controller {
@@ -170,7 +171,7 @@ TEST(ManipulatorSensor, ReportsWhatTheEngineSaysIsHeld) {
   ManipulatorProbe& p = Probe(*sim);
   Ticks(*sim, 1);
   EXPECT_FALSE(p.sensor->holding());
-  sim->space().manipulator(sim->space().Find("r").index)->held = sim->space().Find("c").index;
+  sim->space().Get<ManipulatorState>(sim->space().Find("r").index)->held = sim->space().Find("c").index;
   Ticks(*sim, 1);
   EXPECT_TRUE(p.sensor->holding());
 }
@@ -241,7 +242,7 @@ TEST(ManipulatorSensor, HeldCubeIsNotSeen) {
   ManipulatorProbe& p = Probe(*sim);
   Ticks(*sim, 3);
   EXPECT_GT(Values(p)[2], 0.3f);
-  sim->space().manipulator(sim->space().Find("r").index)->held = sim->space().Find("c").index;
+  sim->space().Get<ManipulatorState>(sim->space().Find("r").index)->held = sim->space().Find("c").index;
   Ticks(*sim, 1);
   for (float x : Values(p)) EXPECT_EQ(x, 0.0f);
 }
@@ -319,7 +320,7 @@ TEST(ManipulatorSensor, RobotsAndEnginesThatCannotCarryItAreRejected) {
                                                "<manipulator_probe id=\"mp\"><sensors><manipulator/></sensors>"
                                                "</manipulator_probe>", "4,4,1", "", "<kinematics2d id=\"k2d\"/>"));
   ExpectMentions(k2d, {"<manipulator>: robot 'r' (a marxbot", "cannot carry this sensor",
-                       "its physics engine (kinematics2d 'k2d') does not simulate the manipulator; use dynamics3d"});
+                       "its physics engine (kinematics2d 'k2d') does not simulate the manipulator of a marxbot; use dynamics3d"});
 }
 
 TEST(ManipulatorSensor, BadAttributesAreReportedWithElementAndLine) {

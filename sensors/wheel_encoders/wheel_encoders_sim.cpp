@@ -26,8 +26,8 @@ class EncoderSystem : public SensorSystem {
     noise_ = NoiseModel::Read(node);
     slip_ = node.GetDouble("slip", 0, Range::Between(0, 1));
   }
+  std::vector<std::string> NeededComponents() const override { return {DriveState::kComponentName}; }
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
-    if (!sim().space().drive(robot.index)) throw AttachError("it has no wheels");
     return &instances_.Add(robot, rng);
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<WheelEncoders*>(s)); }
