@@ -1,5 +1,5 @@
 // Simulated cameras: each robot's image is drawn off-screen by the osmesa
-// renderer's code (engines/render_osmesa) from the camera's pose on the
+// renderer's code (render/osmesa) from the camera's pose on the
 // robot, showing the floor and every entity within range as simple shapes.
 // One OpenGL context per camera configuration draws the images one at a time
 // (Mesa spreads each over its own threads); it is made on the first update,
@@ -15,7 +15,7 @@
 
 #include "core/device.h"
 #include "core/simulation.h"
-#include "engines/render_osmesa/offscreen.h"
+#include "render/osmesa/offscreen.h"
 
 namespace colony {
 namespace {
