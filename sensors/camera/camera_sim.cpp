@@ -129,7 +129,7 @@ std::vector<AttributeDoc> CameraAttributes() {
 COLONY_REGISTER_SENSOR(
     CameraSystem, "camera", "default",
     "perspective colour camera: an RGB image of width x height pixels drawn off-screen "
-    "(OSMesa) from its pose on the robot",
+    "by the image renderer (OSMesa) from its pose on the robot",
     CameraAttributes());
 
 }  // namespace
