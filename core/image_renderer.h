@@ -21,9 +21,9 @@ class Simulation;
 
 // A pinhole camera in the space, and what it must not show.
 struct CameraView {
-  Vec3 position = Vec3::Zero();         // the eye (m, world frame)
-  Quat orientation = Quat::Identity();  // x: the optical axis; z: up in the image
-  double fov = 60;                      // horizontal field of view (degrees), in (0, 180)
+  Vec3 position = Vec3::Zero();             // the eye (m, world frame)
+  Quat orientation = Quat::Identity();      // x: the optical axis; z: up in the image
+  double fov = 60;                          // horizontal field of view (degrees), in (0, 180)
   double near_clip = 0.01, far_clip = 100;  // m; nothing nearer or farther is drawn
   int width = 640, height = 480;            // pixels
   EntityHandle hidden;  // an entity not drawn (e.g. the robot carrying the camera); none by default
@@ -64,16 +64,18 @@ std::unique_ptr<ImageRenderer> MakeImageRenderer(const Simulation& sim);
 std::string NoImageRendererMessage(const std::string& who);
 
 struct ImageRendererRegistrar {
-  explicit ImageRendererRegistrar(ImageRendererFactory factory) { SetImageRendererFactory(factory); }
+  explicit ImageRendererRegistrar(ImageRendererFactory factory) {
+    SetImageRendererFactory(factory);
+  }
 };
 
 // COLONY_REGISTER_IMAGE_RENDERER(MyImageRenderer), in the backend's .cpp: the
 // class has a constructor taking `const Simulation&`.
-#define COLONY_REGISTER_IMAGE_RENDERER(CLASS)                                                \
-  static const ::colony::ImageRendererRegistrar COLONY_PLUGIN_CONCAT(                        \
-      colony_image_renderer_, __LINE__)(                                                     \
-      [](const ::colony::Simulation& sim) -> std::unique_ptr<::colony::ImageRenderer> {      \
-        return std::make_unique<CLASS>(sim);                                                 \
-      })
+#define COLONY_REGISTER_IMAGE_RENDERER(CLASS)                                                     \
+  static const ::colony::ImageRendererRegistrar COLONY_PLUGIN_CONCAT(                             \
+      colony_image_renderer_,                                                                     \
+      __LINE__)([](const ::colony::Simulation& sim) -> std::unique_ptr<::colony::ImageRenderer> { \
+    return std::make_unique<CLASS>(sim);                                                          \
+  })
 
 }  // namespace colony

@@ -2,10 +2,11 @@
 // draws the robots' camera images: the entities a view may show, as simple
 // shapes (never the <mesh> files of <visualization>: what a robot senses must
 // not depend on how the run is visualised), drawn by one OpenGL context.
+#include "core/image_renderer.h"
+
 #include <cmath>
 #include <vector>
 
-#include "core/image_renderer.h"
 #include "core/simulation.h"
 #include "render/osmesa/image.h"
 #include "render/osmesa/offscreen.h"
