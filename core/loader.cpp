@@ -13,6 +13,7 @@
 
 #include "core/bounds.h"
 #include "core/geometry2d.h"
+#include "core/image_renderer.h"
 #include "core/plugin_loader.h"
 #include "core/simulation.h"
 
@@ -660,6 +661,11 @@ void ExperimentLoader::ReadOptionalSections(const ConfigNode& root) {
   if (!node.valid()) return;
   node.CheckAttributes({});
   for (const ConfigNode& child : node.Children()) {
+    // Every renderer draws with the image renderer's backend.
+    if (!HaveImageRenderer()) {
+      child.ElementError(NoImageRendererMessage("the renderer <" + child.name() + ">"));
+      continue;
+    }
     if (const auto* entry = FindPlugin<Renderer>(child, "renderer", child.name(), "default")) {
       child.CheckAttributes(entry->info.AttributeNames());
       auto renderer = entry->create();

@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "core/crash_report.h"
+#include "core/image_renderer.h"
 #include "core/text.h"
 
 namespace colony {
@@ -413,15 +414,11 @@ Renderer& Simulation::AddRenderer(const std::string& xml) {
   }
   ConfigContext context{"<AddRenderer>", {}};
   const ConfigNode node(fragment.RootElement(), &context);
+  if (!HaveImageRenderer()) throw ConfigError(NoImageRendererMessage("the renderer <" + node.name() + ">"));
   const auto* entry = Registry<Renderer>::Get().Find(node.name());
   if (!entry) {
-    std::string available;
-    for (const auto& label : Registry<Renderer>::Get().Labels()) {
-      available += (available.empty() ? "" : ", ") + label;
-    }
-    throw ConfigError("no renderer '" + node.name() + "' in this build" +
-                      (available.empty() ? ": it has none (built with -DCOLONY_WITH_OSMESA=OFF?)"
-                                         : "; available: " + available));
+    throw ConfigError("no renderer '" + node.name() + "' in this build; available: " +
+                      Join(Registry<Renderer>::Get().Labels()));
   }
   node.CheckAttributes(entry->info.AttributeNames());
   auto renderer = entry->create();

@@ -497,6 +497,27 @@ TEST(config_errors, UnknownMedium) {
   EXPECT_TRUE(Mentions(LoadError(Experiment("", "", "4,4,1", extra)), {"<string>:2:", "unknown medium 'radio'"}));
 }
 
+// --- Renderers ----------------------------------------------------------------
+
+TEST(config_errors, RenderersInABuildWithoutAnImageRendererNameTheOption) {
+  const WithoutImageRenderer no_image_renderer;
+  const std::string need =
+      " needs an image renderer, and this build has none: configure with -DCOLONY_WITH_OSMESA=ON "
+      "(needs libosmesa6-dev and libassimp-dev)";
+  const std::string extra = "<visualization>\n<osmesa width=\"640\"/></visualization>";
+  EXPECT_TRUE(Mentions(LoadError(Experiment("", "", "4,4,1", extra)),
+                       {"<string>:2: <osmesa>", "the renderer <osmesa>" + need}));
+  // As `colony run --frames` adds one.
+  auto sim = LoadXml(Experiment(""));
+  std::string message;
+  try {
+    sim->AddRenderer("<osmesa/>");
+  } catch (const ConfigError& e) {
+    message = e.what();
+  }
+  EXPECT_TRUE(Mentions(message, {"the renderer <osmesa>" + need}));
+}
+
 }  // namespace
 }  // namespace colony::testing
 

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/image_renderer.h"
 #include "core/simulation.h"
 
 namespace colony::testing {
@@ -49,6 +50,19 @@ inline std::string LoadError(const std::string& xml, std::vector<std::string> ov
   }
   return "";
 }
+
+// While it lives, this build has no image renderer, as one configured with
+// -DCOLONY_WITH_OSMESA=OFF.
+class WithoutImageRenderer {
+ public:
+  WithoutImageRenderer() : saved_(SetImageRendererFactory(nullptr)) {}
+  ~WithoutImageRenderer() { SetImageRendererFactory(saved_); }
+  WithoutImageRenderer(const WithoutImageRenderer&) = delete;
+  WithoutImageRenderer& operator=(const WithoutImageRenderer&) = delete;
+
+ private:
+  ImageRendererFactory saved_;
+};
 
 // The whole content of a file ("" if unreadable).
 inline std::string ReadFile(const std::filesystem::path& p) {

@@ -23,6 +23,7 @@
 
 #include "apps/colony/sweep.h"
 #include "core/crash_report.h"
+#include "core/image_renderer.h"
 #include "core/log.h"
 #include "core/output.h"
 #include "core/plugin_loader.h"
@@ -170,7 +171,10 @@ int Run(const std::vector<std::string>& args) {
   }
   if (options.file.empty()) throw UsageError("colony run needs an experiment file");
   if (quiet) colony::SetLogLevel(colony::LogLevel::kError);
-  // Decided before running: a long run should not end without its video.
+  // Decided before loading: a long run should not end without its frames or video.
+  if ((!frames_dir.empty() || !video.empty()) && !colony::HaveImageRenderer()) {
+    throw UsageError(colony::NoImageRendererMessage(frames_dir.empty() ? "--video" : "--frames"));
+  }
   if (!video.empty() && !colony::OnPath("ffmpeg")) {
     throw UsageError(
         "--video needs ffmpeg, which is not installed (no 'ffmpeg' on the PATH); install it "

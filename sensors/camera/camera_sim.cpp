@@ -1,29 +1,26 @@
-// Simulated cameras: each robot's image is drawn off-screen by the osmesa
-// renderer's code (engines/render_osmesa) from the camera's pose on the
-// robot, showing the floor and every entity within range as simple shapes.
-// One OpenGL context per camera configuration draws the images one at a time
-// (Mesa spreads each over its own threads); it is made on the first update,
-// so a camera that no controller declares costs nothing.
+// Simulated cameras: each robot's image is drawn off-screen by the build's
+// image renderer (core/image_renderer.h; render/osmesa) from the camera's
+// pose on the robot, showing the floor and every entity within range as
+// simple shapes. One image renderer per camera configuration draws the images
+// one at a time (Mesa spreads each over its own threads); it is made on the
+// first update, so a camera that no controller declares costs nothing.
 #include "sensors/camera/camera.h"
 
 #include <algorithm>
-#include <cmath>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <vector>
 
 #include "core/device.h"
+#include "core/image_renderer.h"
 #include "core/simulation.h"
-#include "engines/render_osmesa/offscreen.h"
 
 namespace colony {
 namespace {
 
 constexpr double kNearClip = 0.01;           // m
 constexpr double kDefaultMountHeight = 0.1;  // m above the robot's base
-// Margin around an entity's shape when culling: LEDs and lights stand out of it.
-constexpr double kLooseness = 0.05;  // m
 
 struct CameraInstance : CameraSensor, InstanceBase {
   using Interface = CameraSensor;
@@ -39,6 +36,7 @@ struct CameraInstance : CameraSensor, InstanceBase {
 class CameraSystem : public SensorSystem {
  public:
   void Configure(const ConfigNode& node) override {
+    if (!HaveImageRenderer()) node.ElementError(NoImageRendererMessage("the camera sensor"));
     width_ = static_cast<int>(node.GetInt("width", 384, 1, 4096));
     height_ = static_cast<int>(node.GetInt("height", 128, 1, 4096));
     fov_ = node.GetDouble("fov", 45, Range{0, 179, true});
@@ -67,7 +65,7 @@ class CameraSystem : public SensorSystem {
 
   void Update(size_t begin, size_t end) override {
     const std::lock_guard lock(mutex_);
-    if (!renderer_) renderer_ = std::make_unique<render::OffscreenRenderer>();
+    if (!renderer_) renderer_ = MakeImageRenderer(sim());
     for (size_t k = begin; k < end; ++k) {
       if (instances_[k].alive) Render(instances_[k]);
     }
@@ -80,13 +78,11 @@ class CameraSystem : public SensorSystem {
   }
 
  private:
-  render::View ViewOf(const CameraInstance& c) const {
+  CameraView ViewOf(const CameraInstance& c) const {
     const Pose& robot = sim().space().pose(c.robot.index);
-    const Quat axes = robot.orientation * c.mount.orientation;
-    render::View view;
-    view.eye = robot.position + robot.orientation * c.mount.position;
-    view.target = view.eye + axes * Vec3::UnitX();
-    view.up = axes * Vec3::UnitZ();
+    CameraView view;
+    view.position = robot.position + robot.orientation * c.mount.position;
+    view.orientation = robot.orientation * c.mount.orientation;
     view.fov = fov_;
     view.near_clip = kNearClip;
     view.far_clip = range_;
@@ -95,32 +91,8 @@ class CameraSystem : public SensorSystem {
     return view;
   }
 
-  // The entities that may show in `view`: solid ones within range (from the
-  // spatial index) and the others (lights), unless wholly outside the view.
-  void BuildScene(const render::View& view) {
-    const Space& space = sim().space();
-    nearby_.clear();
-    space.Gather(view.eye.x() - range_, view.eye.y() - range_, view.eye.x() + range_,
-                 view.eye.y() + range_, nearby_);
-    for (uint32_t i = 0; i < space.slots(); ++i) {
-      if (space.alive(i) && !(space.flags(i) & kSolid)) nearby_.push_back(i);
-    }
-    const render::Frustum frustum(view);
-    const render::SceneBuilder builder(sim(), nullptr);
-    batch_.Clear();
-    for (uint32_t i : nearby_) {
-      const Geometry& g = space.geometry(i);
-      const Vec3 center = space.pose(i).position + Vec3(0, 0, g.height() / 2);
-      const double radius = std::hypot(g.BoundingRadius(), g.height() / 2) + kLooseness;
-      if (frustum.MayShow(center, radius)) builder.AddEntity(i, batch_);
-    }
-  }
-
   void Render(CameraInstance& c) {
-    const render::View view = ViewOf(c);
-    BuildScene(view);
-    renderer_->Draw(sim().space(), batch_, view, {}, image_);
-    std::swap(c.mutable_rgb(), image_.rgb);
+    renderer_->Render(ViewOf(c), c.mutable_rgb());
     if (noise_.enabled()) {
       for (uint8_t& v : c.mutable_rgb()) {
         v = static_cast<uint8_t>(std::clamp(noise_.Apply(v / 255.0, c.rng), 0.0, 1.0) * 255 + 0.5);
@@ -136,10 +108,7 @@ class CameraSystem : public SensorSystem {
   InstanceStore<CameraInstance> instances_;
   // Drawing, one camera at a time.
   std::mutex mutex_;
-  std::unique_ptr<render::OffscreenRenderer> renderer_;
-  std::vector<uint32_t> nearby_;
-  render::SceneBatch batch_;
-  render::Image image_;
+  std::unique_ptr<ImageRenderer> renderer_;
 };
 
 std::vector<AttributeDoc> CameraAttributes() {
@@ -160,7 +129,7 @@ std::vector<AttributeDoc> CameraAttributes() {
 COLONY_REGISTER_SENSOR(
     CameraSystem, "camera", "default",
     "perspective colour camera: an RGB image of width x height pixels drawn off-screen "
-    "(OSMesa) from its pose on the robot",
+    "by the image renderer (OSMesa) from its pose on the robot",
     CameraAttributes());
 
 }  // namespace

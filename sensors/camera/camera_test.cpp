@@ -1,5 +1,6 @@
 // The camera sensor as a controller sees it: an RGB image of what is in
-// front of the robot, drawn off-screen with no display.
+// front of the robot, drawn off-screen with no display; and refused at load
+// by a build without an image renderer.
 #include "sensors/camera/camera.h"
 
 #include <cstdlib>
@@ -15,6 +16,7 @@ namespace {
 using testing::Experiment;
 using testing::LoadError;
 using testing::LoadXml;
+using testing::Mentions;
 
 // Keeps what its camera saw at the last control step.
 class CameraProbe : public Controller {
@@ -65,7 +67,10 @@ bool IsRed(Color c) { return c.r > 80 && c.r > 2 * c.g && c.r > 2 * c.b; }
 
 class Camera : public ::testing::Test {
  protected:
-  void SetUp() override { unsetenv("DISPLAY"); }
+  void SetUp() override {
+    if (!HaveImageRenderer()) GTEST_SKIP() << "this build has no image renderer";
+    unsetenv("DISPLAY");
+  }
 };
 
 TEST_F(Camera, FacingAGreenCylinderSeesGreenAtTheImageCentre) {
@@ -183,6 +188,15 @@ TEST(CameraErrors, BadSettingsAreRejected) {
   EXPECT_NE(range.find("attribute 'range'"), std::string::npos) << range;
   const std::string drop = LoadError(Experiment(robot, Controllers("drop_probability=\"0.5\"")));
   EXPECT_NE(drop.find("attribute 'drop_probability'"), std::string::npos) << drop;
+}
+
+TEST(CameraErrors, ABuildWithoutAnImageRendererRefusesTheCameraNamingTheOption) {
+  const testing::WithoutImageRenderer no_image_renderer;
+  const std::string message = LoadError(Experiment(Robot("r", "0,0,0"), "\n" + Controllers()));
+  EXPECT_TRUE(Mentions(message, {"<string>:2: <camera>",
+                                 "the camera sensor needs an image renderer, and this build has none: "
+                                 "configure with -DCOLONY_WITH_OSMESA=ON (needs libosmesa6-dev and "
+                                 "libassimp-dev)"}));
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "engines/render_osmesa/scene.h"
+#include "render/osmesa/scene.h"
 
 #include <algorithm>
 #include <cmath>

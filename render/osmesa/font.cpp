@@ -1,4 +1,4 @@
-#include "engines/render_osmesa/font.h"
+#include "render/osmesa/font.h"
 
 #include <algorithm>
 #include <array>

@@ -11,7 +11,7 @@
 #include "core/color.h"
 #include "core/entity_type.h"
 #include "core/space.h"
-#include "engines/render_osmesa/mesh.h"
+#include "render/osmesa/mesh.h"
 
 namespace colony {
 class Simulation;

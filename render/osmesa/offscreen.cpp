@@ -1,4 +1,4 @@
-#include "engines/render_osmesa/offscreen.h"
+#include "render/osmesa/offscreen.h"
 
 #include <GL/osmesa.h>
 

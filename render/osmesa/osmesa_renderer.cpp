@@ -18,10 +18,10 @@
 #include "core/log.h"
 #include "core/renderer.h"
 #include "core/simulation.h"
-#include "engines/render_osmesa/mesh.h"
-#include "engines/render_osmesa/offscreen.h"
-#include "engines/render_osmesa/overlays.h"
-#include "engines/render_osmesa/scene.h"
+#include "render/osmesa/mesh.h"
+#include "render/osmesa/offscreen.h"
+#include "render/osmesa/overlays.h"
+#include "render/osmesa/scene.h"
 
 namespace colony::render {
 namespace {

@@ -1,4 +1,4 @@
-#include "engines/render_osmesa/image.h"
+#include "render/osmesa/image.h"
 
 #include <png.h>
 

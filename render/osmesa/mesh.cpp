@@ -1,4 +1,4 @@
-#include "engines/render_osmesa/mesh.h"
+#include "render/osmesa/mesh.h"
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>

@@ -1,11 +1,11 @@
-#include "engines/render_osmesa/overlays.h"
+#include "render/osmesa/overlays.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/geometry2d.h"
 #include "core/simulation.h"
-#include "engines/render_osmesa/font.h"
+#include "render/osmesa/font.h"
 
 namespace colony::render {
 

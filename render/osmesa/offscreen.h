@@ -7,9 +7,9 @@
 
 #include "core/color.h"
 #include "core/space.h"
-#include "engines/render_osmesa/image.h"
-#include "engines/render_osmesa/scene.h"
-#include "engines/render_osmesa/view.h"
+#include "render/osmesa/image.h"
+#include "render/osmesa/scene.h"
+#include "render/osmesa/view.h"
 
 struct osmesa_context;
 

@@ -4,7 +4,7 @@
 #include <string_view>
 
 #include "core/color.h"
-#include "engines/render_osmesa/image.h"
+#include "render/osmesa/image.h"
 
 namespace colony::render {
 

@@ -1,6 +1,7 @@
 // The osmesa renderer as a user meets it: frames from <visualization> with no
 // display, what they show, meshes, overlays, bad settings, results unchanged,
-// and `colony run --frames / --video`.
+// and `colony run --frames / --video`; and the image renderer it provides
+// (core/image_renderer.h), which draws the camera sensor's images.
 #include <png.h>
 #include <sys/wait.h>
 
@@ -11,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/image_renderer.h"
 #include "core/output.h"
 #include "core/registry.h"
 #include "tests/test_util.h"
@@ -340,6 +342,46 @@ TEST_F(Rendering, RenderingDoesNotChangeTheResults) {
   EXPECT_EQ(run(frames, 0), plain);
   EXPECT_EQ(run(frames, 3), plain);
   EXPECT_TRUE(fs::exists(dir_ / "chase_000014.png"));
+}
+
+// The image renderer seen through its interface: two robots under a camera
+// looking straight down; the one it is told to hide is not drawn, the other is.
+TEST(ImageRenderer, DrawsWhatTheCameraSeesExceptTheHiddenEntity) {
+  unsetenv("DISPLAY");
+  ASSERT_TRUE(HaveImageRenderer());
+  auto sim = LoadXml(Experiment(Robot("below", "0,0,0") + Robot("beside", "0.15,0.15,0"), kRedRobots));
+  sim->Step();
+  CameraView view;
+  view.position = Vec3(0, 0, 1);
+  view.orientation = FromEulerZYX(0, DegToRad(90), 0);  // x (the optical axis) down
+  view.fov = 40;
+  view.far_clip = 2;
+  view.width = 80;
+  view.height = 60;
+  const auto renderer = MakeImageRenderer(*sim);
+  auto draw = [&](EntityHandle hidden) {
+    view.hidden = hidden;
+    std::vector<uint8_t> rgb;
+    renderer->Render(view, rgb);
+    EXPECT_EQ(rgb.size(), 80u * 60 * 3);
+    return rgb;
+  };
+  auto not_floor = [](const std::vector<uint8_t>& rgb) {  // the floor is white
+    int n = 0;
+    for (size_t k = 0; k + 2 < rgb.size(); k += 3) n += rgb[k] + rgb[k + 1] + rgb[k + 2] < 3 * 255;
+    return n;
+  };
+  auto centre = [](const std::vector<uint8_t>& rgb) {
+    const uint8_t* p = rgb.data() + (30 * 80 + 40) * 3;
+    return Color{p[0], p[1], p[2], 255};
+  };
+  const auto both = draw({});
+  const auto without_below = draw(sim->space().Find("below"));
+  EXPECT_NE(centre(both), Color::White());
+  EXPECT_EQ(centre(without_below), Color::White());
+  EXPECT_GT(not_floor(without_below), 100);  // the robot beside is still drawn
+  EXPECT_LT(not_floor(without_below), not_floor(both) - 100);
+  EXPECT_EQ(draw({}), both);  // the same image again
 }
 
 // A bad setting names the file, line, element and attribute.
