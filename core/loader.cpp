@@ -2,19 +2,18 @@
 #include <tinyxml2.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <unordered_map>
 
 #include "core/bounds.h"
 #include "core/geometry2d.h"
+#include "core/overrides.h"
 #include "core/plugin_loader.h"
 #include "core/simulation.h"
+#include "core/xml_errors.h"
 
 namespace colony {
 
@@ -31,186 +30,6 @@ bool HasMisspelt(const ConfigNode& parent, const std::string& name) {
     if (child.name() != name && DidYouMean(child.name(), {name}) == name) return true;
   }
   return false;
-}
-
-[[noreturn]] void Fail(const std::string& file, int line, const std::string& message) {
-  throw ConfigError(std::vector<Diagnostic>{Diagnostic{file, line, "", "", "", message}});
-}
-
-// The elements still open where `text` ends, outermost first (a best-effort
-// scan, used only to explain why a document failed to parse).
-struct OpenElement {
-  std::string name;
-  int line = 0;
-};
-std::vector<OpenElement> OpenElementsAtEnd(const std::string& text) {
-  std::vector<OpenElement> open;
-  int line = 1;
-  size_t i = 0;
-  auto skip_past = [&](const char* terminator) {
-    const size_t k = text.find(terminator, i);
-    const size_t stop = k == std::string::npos ? text.size() : k + std::strlen(terminator);
-    line += static_cast<int>(std::count(text.begin() + i, text.begin() + stop, '\n'));
-    i = stop;
-  };
-  while (i < text.size()) {
-    if (text[i] != '<') {
-      if (text[i] == '\n') ++line;
-      ++i;
-      continue;
-    }
-    if (text.compare(i, 4, "<!--") == 0) {
-      skip_past("-->");
-    } else if (text.compare(i, 9, "<![CDATA[") == 0) {
-      skip_past("]]>");
-    } else if (text.compare(i, 2, "<?") == 0) {
-      skip_past("?>");
-    } else if (text.compare(i, 2, "<!") == 0) {
-      skip_past(">");
-    } else {
-      const int tag_line = line;
-      const bool closing = text.compare(i, 2, "</") == 0;
-      size_t k = i + (closing ? 2 : 1);
-      const size_t name_begin = k;
-      while (k < text.size() && !std::isspace(static_cast<unsigned char>(text[k])) && text[k] != '>' &&
-             text[k] != '/') {
-        ++k;
-      }
-      const std::string name = text.substr(name_begin, k - name_begin);
-      char quote = 0;
-      for (; k < text.size() && (quote || text[k] != '>'); ++k) {
-        if (text[k] == '\n') ++line;
-        if (quote) {
-          if (text[k] == quote) quote = 0;
-        } else if (text[k] == '"' || text[k] == '\'') {
-          quote = text[k];
-        }
-      }
-      const bool self_closing = k < text.size() && text[k - 1] == '/';
-      if (closing) {
-        if (!open.empty()) open.pop_back();
-      } else if (!self_closing) {
-        open.push_back({name, tag_line});
-      }
-      i = k + 1;
-    }
-  }
-  return open;
-}
-
-// Explains a failed parse of `text` as one diagnostic.
-[[noreturn]] void FailXml(const tinyxml2::XMLDocument& doc, tinyxml2::XMLError err, const std::string& text,
-                          const std::string& file) {
-  // tinyxml2 names the element it was reading as "... name=NAME".
-  const std::string detail = doc.ErrorStr() ? doc.ErrorStr() : "";
-  const size_t at = detail.find("name=");
-  const std::string element = at == std::string::npos ? "" : detail.substr(at + 5);
-  const auto open = OpenElementsAtEnd(text);
-  std::string truncated;
-  int line = doc.ErrorLineNum();
-  if (!open.empty()) {
-    const OpenElement& last = open.back();
-    truncated = "the file ends inside <" + last.name + "> (line " + std::to_string(last.line) +
-                "), which is never closed with </" + last.name + ">; is the file truncated?";
-  }
-  std::string message;
-  switch (err) {
-    case tinyxml2::XML_ERROR_PARSING_TEXT:
-      if (text.find('<') == std::string::npos) {
-        Fail(file, 1, "this is not XML: an experiment file is an XML document with root element <colony>");
-      } else {
-        // With every element closed, the text stands outside the root element.
-        message = truncated.empty() ? "text outside the root element; accepted: one root element, with only "
-                                      "comments and the <?xml ...?> declaration around it"
-                                    : truncated;
-      }
-      break;
-    case tinyxml2::XML_ERROR_PARSING:
-      if (!truncated.empty()) line = open.back().line;
-      message = truncated.empty() ? "the document ends unexpectedly; is the file truncated?" : truncated;
-      break;
-    case tinyxml2::XML_ERROR_PARSING_ELEMENT:
-      message = (element.empty() ? "a tag" : "the tag <" + element + ">") +
-                " is malformed or unfinished; accepted: <name attribute=\"value\" ...> or <name .../>";
-      break;
-    case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT:
-      message = "<" + element + "> is not closed by a matching </" + element + ">";
-      break;
-    case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE:
-      message = "malformed or repeated attribute" + (element.empty() ? "" : " in <" + element + ">") +
-                "; accepted: name=\"value\" with the value in quotes, each attribute once";
-      break;
-    case tinyxml2::XML_ERROR_PARSING_COMMENT:
-      message = "a comment is not closed: it starts with <!-- and must end with -->";
-      break;
-    case tinyxml2::XML_ERROR_PARSING_CDATA:
-      message = "a <![CDATA[ section is not closed with ]]>";
-      break;
-    case tinyxml2::XML_ERROR_PARSING_DECLARATION:
-      message = "malformed declaration; accepted: <?xml version=\"1.0\"?> at the very start of the file";
-      break;
-    default:
-      message = std::string(doc.ErrorName()) + (detail.empty() ? "" : ": " + detail);
-  }
-  if (err != tinyxml2::XML_ERROR_PARSING && !truncated.empty() && message.find(truncated) == std::string::npos) {
-    message += "; " + truncated;
-  }
-  Fail(file, line, "not well-formed XML: " + message);
-}
-
-// Applies one "--set a.b[id].c=value" to the document. Path segments are
-// element names below the root (the root's own name may lead), optionally
-// with [id] to pick among siblings; the last segment is the attribute.
-void ApplyOverride(tinyxml2::XMLDocument& doc, const std::string& spec, const std::string& file) {
-  const size_t eq = spec.find('=');
-  if (eq == std::string::npos || eq == 0) {
-    throw ConfigError("--set '" + spec + "': expected PATH=VALUE, e.g. framework.experiment.length=10");
-  }
-  const std::string path = spec.substr(0, eq);
-  const std::string value = spec.substr(eq + 1);
-  auto segments = SplitList(path, '.');
-  tinyxml2::XMLElement* element = doc.RootElement();
-  if (!segments.empty() && segments.front() == element->Name()) segments.erase(segments.begin());
-  if (segments.size() < 2) {
-    throw ConfigError("--set '" + spec + "': the path needs at least an element and an attribute, e.g. framework.experiment.length=10");
-  }
-  for (const auto& segment : segments) {
-    if (segment.empty()) {
-      throw ConfigError("--set '" + spec + "': empty name in the path; accepted: element.element[id].attribute=value, e.g. framework.experiment.length=10");
-    }
-  }
-  for (size_t i = 0; i + 1 < segments.size(); ++i) {
-    std::string name = segments[i], id;
-    const size_t bracket = name.find('[');
-    if (bracket != std::string::npos) {
-      if (name.back() != ']') throw ConfigError("--set '" + spec + "': malformed segment '" + name + "'; accepted: name or name[id]");
-      id = name.substr(bracket + 1, name.size() - bracket - 2);
-      name = name.substr(0, bracket);
-    }
-    std::vector<tinyxml2::XMLElement*> matches;
-    std::vector<std::string> names;
-    for (auto* c = element->FirstChildElement(); c; c = c->NextSiblingElement()) {
-      if (std::find(names.begin(), names.end(), c->Name()) == names.end()) names.push_back(c->Name());
-      if (name != c->Name()) continue;
-      if (!id.empty() && (!c->Attribute("id") || id != c->Attribute("id"))) continue;
-      matches.push_back(c);
-    }
-    if (matches.empty()) {
-      std::string message = "--set '" + spec + "': no element <" + segments[i] + "> inside <" +
-                            element->Name() + ">";
-      const std::string guess = DidYouMean(name, names);
-      if (!guess.empty() && guess != name) message += " (did you mean '" + guess + "'?)";
-      message += names.empty() ? std::string("; it has no child elements")
-                               : "; it holds: " + Join(names);
-      throw ConfigError(std::vector<Diagnostic>{Diagnostic{file, element->GetLineNum(), "", "", path, message}});
-    }
-    if (matches.size() > 1) {
-      throw ConfigError("--set '" + spec + "': <" + name + "> matches " + std::to_string(matches.size()) +
-                        " elements inside <" + element->Name() + ">; pick one with " + name + "[id]");
-    }
-    element = matches.front();
-  }
-  element->SetAttribute(segments.back().c_str(), value.c_str());
 }
 
 // Placed footprints, to reject entities inside walls or on top of each other.
@@ -366,38 +185,9 @@ class ExperimentLoader {
 void ExperimentLoader::Parse() {
   auto& doc = *sim_.document_;
   const std::string& file = sim_.file_;
-  std::string text = options_.text;
-  if (options_.text.empty() && !options_.file.empty()) {
-    std::error_code ec;
-    if (!std::filesystem::exists(file, ec)) Fail(file, 0, "cannot open the experiment file: no such file");
-    if (std::filesystem::is_directory(file, ec)) Fail(file, 0, "cannot open the experiment file: it is a directory");
-    std::ifstream in(file, std::ios::binary);
-    std::ostringstream content;
-    content << in.rdbuf();
-    if (!in) Fail(file, 0, "cannot read the experiment file");
-    text = content.str();
-  }
-  const tinyxml2::XMLError err = doc.Parse(text.c_str(), text.size());
-  if (err == tinyxml2::XML_ERROR_EMPTY_DOCUMENT) Fail(file, 0, "the file is empty; expected an XML document with root <colony>");
-  if (err == tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED) {
-    Fail(file, doc.ErrorLineNum(), "elements nested too deeply (over " + std::to_string(TINYXML2_MAX_ELEMENT_DEPTH) + " levels)");
-  }
-  if (err != tinyxml2::XML_SUCCESS) FailXml(doc, err, text, file);
-  if (!doc.RootElement()) Fail(file, 0, "no root element; expected <colony>");
-  const std::string root = doc.RootElement()->Name();
-  if (root != "colony" && root != "argos-configuration") {
-    Fail(file, doc.RootElement()->GetLineNum(), "the root element is <" + root + ">; accepted: <colony> or <argos-configuration>");
-  }
-  // tinyxml2 keeps whatever follows the root element; only comments may.
-  for (const tinyxml2::XMLNode* n = doc.RootElement()->NextSibling(); n; n = n->NextSibling()) {
-    const std::string what = n->ToElement() ? "a second root element <" + std::string(n->Value()) + ">"
-                             : n->ToText()  ? "text"
-                                            : "";
-    if (what.empty()) continue;
-    Fail(file, n->GetLineNum(), what + " after </" + root + "> (which closes the root element opened at line " +
-                                    std::to_string(doc.RootElement()->GetLineNum()) +
-                                    "); accepted: one root element, followed only by comments");
-  }
+  const std::string text =
+      options_.text.empty() && !options_.file.empty() ? ReadExperimentText(options_.file) : options_.text;
+  ParseExperimentXml(text, file, doc);
   for (const auto& o : options_.overrides) ApplyOverride(doc, o, file);
 }
 
