@@ -1,4 +1,5 @@
-// Placement checks and the load-time overlap index (see core/placement.h).
+// Placement checks, the load-time overlap index and <distribute> (see
+// core/placement.h).
 #include "core/placement.h"
 
 #include <algorithm>
@@ -124,6 +125,61 @@ std::string PlacementProblem(const Space::EntityInit& init, const Space& space, 
     return "overlaps '" + other->id + "' (line " + std::to_string(other->line) + ")";
   }
   return "";
+}
+
+Vec3 Draw(const DistributeDraw& draw, RandomStream& rng, size_t index) {
+  const auto& a = draw.a;
+  const auto& b = draw.b;
+  auto unit = [&](double v) { return draw.degrees ? DegToRad(v) : v; };
+  switch (draw.method) {
+    case DistributeDraw::Method::kUniform:
+      return Vec3(rng.Uniform(unit(a[0]), unit(b[0])), rng.Uniform(unit(a[1]), unit(b[1])),
+                  rng.Uniform(unit(a[2]), unit(b[2])));
+    case DistributeDraw::Method::kGaussian:
+      return Vec3(rng.Gaussian(unit(a[0]), unit(b[0])), rng.Gaussian(unit(a[1]), unit(b[1])),
+                  rng.Gaussian(unit(a[2]), unit(b[2])));
+    case DistributeDraw::Method::kGrid: {
+      // Places filled x fastest, then y, then z, centred on a.
+      const auto& n = draw.layout;
+      const int64_t i = static_cast<int64_t>(index);
+      const int64_t k[3] = {i % n[0], i / n[0] % n[1], i / (n[0] * n[1])};
+      Vec3 v;
+      for (int c = 0; c < 3; ++c) v[c] = unit(a[c] + (static_cast<double>(k[c]) - (n[c] - 1) / 2.0) * b[c]);
+      return v;
+    }
+    case DistributeDraw::Method::kConstant:
+      break;
+  }
+  return Vec3(unit(a[0]), unit(a[1]), unit(a[2]));
+}
+
+void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::string& file,
+                      const std::function<std::string(const EntityDesc&)>& problem,
+                      const std::function<bool(const EntityDesc&)>& add, Diagnostics& diagnostics) {
+  RandomStream rng = RandomStream::For(seed, "distribute", std::to_string(block.line));
+  const std::string& base_id = block.entity.init.id;
+  EntityDesc desc = block.entity;
+  for (int64_t i = 0; i < block.quantity; ++i) {
+    desc.init.id = base_id + std::to_string(block.base_num + i);
+    bool placed = false;
+    std::string last_problem;
+    for (int64_t trial = 0; trial < block.max_trials && !placed; ++trial) {
+      desc.init.pose.position = Draw(block.position, rng, static_cast<size_t>(i));
+      const Vec3 o = Draw(block.orientation, rng, static_cast<size_t>(i));
+      desc.init.pose.orientation = FromEulerZYX(o[0], o[1], o[2]);
+      last_problem = problem(desc);
+      placed = last_problem.empty();
+    }
+    if (!placed) {
+      diagnostics.Add(Diagnostic{
+          file, block.entity_line, "entity", "max_trials", std::to_string(block.max_trials),
+          "could place only " + std::to_string(i) + " of " + std::to_string(block.quantity) + " entities: '" +
+              desc.init.id + "' found no free place in " + std::to_string(block.max_trials) + " trials (last try: it " +
+              last_problem + "); enlarge the <position> range or the arena, lower quantity, or raise max_trials"});
+      return;
+    }
+    if (!add(desc)) return;
+  }
 }
 
 }  // namespace colony

@@ -1,14 +1,20 @@
 // Where entities may stand: wholly inside the arena (down into a ditch they
 // fit in), and movable ones clear of every solid entity (fixed ones may touch
 // each other: walls meet at corners). At load the footprints placed so far
-// are kept in a PlacementIndex.
+// are kept in a PlacementIndex; <distribute> draws poses until its entities
+// fit (PlaceDistributed). Simulation::Create and Simulation::AddEntity use
+// these.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
+#include "core/error.h"
+#include "core/experiment_spec.h"
+#include "core/random.h"
 #include "core/space.h"
 
 namespace colony {
@@ -64,5 +70,19 @@ class PlacementIndex {
 // `space`'s arena ("is outside the arena: ...", "overlaps 'b' (line 3)"), or
 // "".
 std::string PlacementProblem(const Space::EntityInit& init, const Space& space, const PlacementIndex& index);
+
+// Draws `draw`'s triple for the entity numbered `index` (a grid's place, or
+// a random draw from `rng`), in metres or radians.
+Vec3 Draw(const DistributeDraw& draw, RandomStream& rng, size_t index);
+
+// Places the entities of `block`, in order: entity i gets the template's id
+// followed by base_num + i, and the first pose drawn (position, then
+// orientation, from one stream seeded by `seed` and the block's line) for
+// which `problem` returns ""; it is then handed to `add`. Stops at the first
+// entity that `add` refuses (returns false: it recorded why) or that finds no
+// place in max_trials draws, recorded in `diagnostics` against `file`.
+void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::string& file,
+                      const std::function<std::string(const EntityDesc&)>& problem,
+                      const std::function<bool(const EntityDesc&)>& add, Diagnostics& diagnostics);
 
 }  // namespace colony
