@@ -294,8 +294,8 @@ EntityHandle Simulation::Add(const EntityDesc& desc, PlacementCheck check, Place
   }
   if (const EntityHandle existing = space_.Find(id); existing.valid()) {
     const int first = line_of_[existing.index];
-    EntityError(desc, "id", id,
-                "duplicate entity id '" + id + "'" + (first > 0 ? " (first defined at line " + std::to_string(first) + ")" : ""));
+    const std::string where = first > 0 ? " (first defined at line " + std::to_string(first) + ")" : "";
+    EntityError(desc, "id", id, "duplicate entity id '" + id + "'" + where);
     return {};
   }
   if (placed || check == PlacementCheck::kClear) {
@@ -313,7 +313,8 @@ EntityHandle Simulation::Add(const EntityDesc& desc, PlacementCheck check, Place
   if (entity_types_.size() <= type_id) entity_types_.resize(type_id + 1);
   entity_types_[type_id] = {&type, type_id};
   const std::vector<const PhysicsModel*>& models = ModelsFor(type_id, entry->info.label);
-  if (init.geometry.shape != ShapeKind::kNone && std::none_of(models.begin(), models.end(), [](auto* m) { return m; })) {
+  const bool simulated = std::any_of(models.begin(), models.end(), [](const PhysicsModel* m) { return m; });
+  if (init.geometry.shape != ShapeKind::kNone && !simulated) {
     std::vector<std::string> engines;
     for (const auto& e : engines_) engines.push_back(e->label() + " '" + e->id() + "'");
     EntityError(desc, "", "",

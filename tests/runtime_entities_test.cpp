@@ -83,6 +83,9 @@ COLONY_REGISTER_CONTROLLER(Driver, "runtime_driver", "test: drives straight ahea
 
 const char kDriver[] = "<runtime_driver id=\"d\"><actuators><differential_steering/></actuators></runtime_driver>";
 
+// One marXbot, on line 2.
+const char kOneRobot[] = "\n<marxbot id=\"mb\"><body position=\"0,0,0\"/><controller config=\"d\"/></marxbot>";
+
 // A marXbot description read once, as a loop function would keep it.
 EntityDesc Marxbot(const std::string& id, double x, double y) {
   static const EntityDesc kProto =
@@ -143,9 +146,10 @@ TEST(RuntimeEntities, BoxesNeedNoXml) {
 }
 
 TEST(RuntimeEntities, DuplicateIdIsRefused) {
-  auto sim = testing::LoadXml(testing::Experiment("\n<marxbot id=\"mb\"><body position=\"0,0,0\"/><controller config=\"d\"/></marxbot>", kDriver));
+  auto sim = testing::LoadXml(testing::Experiment(kOneRobot, kDriver));
   EXPECT_TRUE(testing::Mentions(AddError(*sim, Marxbot("mb", 1, 1)),
-                                {"<marxbot id=\"mb\">", "attribute 'id'", "duplicate entity id 'mb'", "first defined at line 2"}));
+                                {"<marxbot id=\"mb\">", "attribute 'id'", "duplicate entity id 'mb'",
+                                 "first defined at line 2"}));
   EXPECT_EQ(sim->robot_count(), 1u);
   EXPECT_EQ(sim->space().alive_count(), 1u);
   EXPECT_EQ(sim->space().pose(sim->space().Find("mb").index).position, Vec3(0, 0, 0)) << "the first one is untouched";
@@ -187,7 +191,7 @@ TEST(RuntimeEntities, EntityOutsideEveryEngineIsRefused) {
 }
 
 TEST(RuntimeEntities, PlacementIsCheckedWhenAsked) {
-  auto sim = testing::LoadXml(testing::Experiment("\n<marxbot id=\"mb\"><body position=\"0,0,0\"/><controller config=\"d\"/></marxbot>", kDriver));
+  auto sim = testing::LoadXml(testing::Experiment(kOneRobot, kDriver));
   EXPECT_TRUE(testing::Mentions(AddError(*sim, Marxbot("near", 0.1, 0), PlacementCheck::kClear),
                                 {"entity 'near' overlaps 'mb' (line 2)", "not overlapping solid entities"}));
   EXPECT_TRUE(testing::Mentions(AddError(*sim, Marxbot("far", 5, 0), PlacementCheck::kClear),
