@@ -60,10 +60,14 @@ struct DeviceMounts {
   }
 };
 
-// What one entity is, as read from the experiment file.
+// What one entity is: read from the experiment file (or an XML element), or
+// made by a program, and handed to the simulation (Simulation::AddEntity).
+// A plain value: copy it to make more of the same entity.
 struct EntityDesc {
-  Space::EntityInit init;  // id, pose, geometry, flags, colour, mass, LEDs, drive, light
+  std::string type;        // the entity type's label or an alias ("marxbot", "foot-bot", "box")
+  Space::EntityInit init;  // id, pose, geometry, flags, colour, mass, components; init.type is set when added
   std::string controller;  // robots: the id of the controller configuration
+  int line = 0;            // of its element in the experiment file, for messages; 0: not from the file
 };
 
 class EntityType {

@@ -20,7 +20,7 @@ class Medium : public NamedSimulationBound {
  public:
   virtual ~Medium() = default;
   // Reads the medium's element (attributes already checked against the
-  // registered list). Called before the controllers and the arena are read.
+  // registered list). Called before the controllers and the arena are built.
   virtual void Configure(const ConfigNode& node) { (void)node; }
   // Rebuilds the medium's index from the space and what actuators wrote
   // during this tick's act step. Called once per tick, from the main thread,

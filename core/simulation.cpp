@@ -38,14 +38,16 @@ Simulation::~Simulation() {
 }
 
 EntityHandle Simulation::Instantiate(const EntityDesc& desc, PhysicsModel* const* models,
-                                     const std::vector<int>& engines, const ConfigNode& where) {
+                                     const std::vector<int>& engines, int line) {
   const EntityHandle h = space_.Add(desc.init);
   if (engine_of_.size() < space_.slots()) {
     engine_of_.resize(space_.slots(), -1);
     robot_of_.resize(space_.slots(), -1);
+    line_of_.resize(space_.slots(), 0);
   }
   engine_of_[h.index] = -1;
   robot_of_[h.index] = -1;
+  line_of_[h.index] = line;
   for (int e : engines) {
     engines_[e]->SetOwned(h.index, true);
     engines_[e]->AddEntity(h, *models[e]);
@@ -59,13 +61,13 @@ EntityHandle Simulation::Instantiate(const EntityDesc& desc, PhysicsModel* const
     for (auto& c : controller_configs_) {
       if (c->id == desc.controller) robot.config = c.get();
     }
-    AttachController(robot, where);
+    AttachController(robot, line);
     ++robot_count_;
   }
   return h;
 }
 
-void Simulation::AttachController(Robot& robot, const ConfigNode& where) {
+void Simulation::AttachController(Robot& robot, int line) {
   ControllerConfig& config = *robot.config;
   const auto* entry = static_cast<const Registry<Controller>::Entry*>(config.entry);
   config.library = entry->info.library.empty() ? nullptr : entry->info.library.c_str();
@@ -87,7 +89,7 @@ void Simulation::AttachController(Robot& robot, const ConfigNode& where) {
           robot.entity, RandomStream::For(seed_, robot.id, "sensor/" + config.sensor_labels[i]));
     } catch (const AttachError& e) {
       config.sensor_nodes[i].ElementError("robot '" + robot.id + "' (a " + type + ", line " +
-                                          std::to_string(where.line()) +
+                                          std::to_string(line) +
                                           ") cannot carry this sensor: " + e.what());
       attached = false;
     }
@@ -99,7 +101,7 @@ void Simulation::AttachController(Robot& robot, const ConfigNode& where) {
           robot.entity, RandomStream::For(seed_, robot.id, "actuator/" + config.actuator_labels[i]));
     } catch (const AttachError& e) {
       config.actuator_nodes[i].ElementError("robot '" + robot.id + "' (a " + type + ", line " +
-                                            std::to_string(where.line()) +
+                                            std::to_string(line) +
                                             ") cannot carry this actuator: " + e.what());
       attached = false;
     }

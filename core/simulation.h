@@ -1,8 +1,10 @@
-// A simulation: an experiment file compiled once into a space, engines,
-// sensor and actuator systems, controllers and loop functions, and stepped
-// tick by tick in the fixed order of DESIGN.md:
+// A simulation: an experiment spec (core/experiment_spec.h) built once into
+// a space, engines, sensor and actuator systems, controllers and loop
+// functions, and stepped tick by tick in the fixed order of DESIGN.md:
 //   1 act  2 physics (+ spatial index)  3 media  4 loop pre-step
 //   5 sense + control  6 loop post-step, metrics, stop conditions.
+// Building it (Create, AddEntity) is in core/simulation_create.cpp; the tick
+// in core/simulation.cpp.
 #pragma once
 
 #include <cstdint>
@@ -18,6 +20,7 @@
 #include "core/device.h"
 #include "core/engine.h"
 #include "core/entity_type.h"
+#include "core/experiment_spec.h"
 #include "core/loop_functions.h"
 #include "core/medium.h"
 #include "core/renderer.h"
@@ -30,14 +33,7 @@ class XMLDocument;
 
 namespace colony {
 
-// How to load an experiment (from the command line or a test).
-struct ExperimentOptions {
-  std::string file;                    // path of the XML file, or
-  std::string text;                    // the XML itself (file then only names it in messages)
-  std::vector<std::string> overrides;  // "path=value", see ApplyOverride
-  std::optional<int> threads;          // replaces <system threads>
-  std::optional<uint64_t> seed;        // replaces <experiment random_seed>
-};
+class PlacementIndex;
 
 // Named values recorded by loop functions; one row of metrics.csv every
 // `metrics_every` ticks. Columns are fixed by the names set before the first
@@ -69,15 +65,20 @@ struct StepProfile {
   double total() const { return act + physics + media + loop_functions + sense_control; }
 };
 
-struct OutputConfig {
-  uint64_t metrics_every = 1;  // ticks between rows of metrics.csv (0: none)
-  uint64_t hash_every = 0;     // ticks between state hashes printed to hashes.csv (0: none)
+// What AddEntity checks of where an entity stands, besides being in an
+// engine's region.
+enum class PlacementCheck {
+  kNone,   // nothing more: the caller knows there is room
+  kClear,  // wholly inside the arena and clear of solid entities (fixed ones may touch each other), as
+           // the entities of an experiment file must be
 };
 
 class Simulation {
  public:
-  // Reads, validates and builds an experiment. Throws ConfigError listing
-  // every problem found.
+  // Builds a simulation from a spec. Throws ConfigError listing every
+  // problem found.
+  static std::unique_ptr<Simulation> Create(const ExperimentSpec& spec);
+  // Reads, checks and builds an experiment: Create(ReadExperimentSpec(options)).
   static std::unique_ptr<Simulation> Load(const ExperimentOptions& options);
   ~Simulation();
 
@@ -95,7 +96,9 @@ class Simulation {
   // command line means the calling thread only, so it reads 1.
   int threads() const { return threads_; }
   const std::string& file() const { return file_; }
-  // The experiment as resolved (overrides applied), as XML text.
+  // The experiment file as resolved (overrides applied), as XML text ("" for
+  // a spec without a document). Changes a program made to the spec after
+  // reading it are not in it.
   std::string ResolvedXml() const;
   const OutputConfig& output() const { return output_; }
 
@@ -116,9 +119,15 @@ class Simulation {
   // Where the entity's type carries its devices (sensor rings, LEDs...).
   const DeviceMounts& MountsOf(EntityHandle entity) const;
 
-  // Adds an entity described by an XML element, as in <arena> (e.g.
-  // "<box id='b' size='1,1,1'><body position='0,0,0'/></box>"). For loop
-  // functions; throws ConfigError.
+  // Adds an entity while running (for loop functions), checked as the
+  // entities of an experiment file are: a registered type, a new id, a robot's
+  // controller among the <controllers> (it is attached and started), an engine
+  // that can simulate it and whose region holds it, and with kClear its place.
+  // Throws ConfigError naming the entity; nothing is added then.
+  EntityHandle AddEntity(const EntityDesc& desc, PlacementCheck check = PlacementCheck::kNone);
+  // The same from an XML element, as in <arena> (e.g. "<box id='b'
+  // size='1,1,1'><body position='0,0,0'/></box>"): ReadEntityDesc, then
+  // AddEntity. To add many alike, read one and copy it.
   EntityHandle AddEntity(const std::string& xml);
   void RemoveEntity(EntityHandle entity);
 
@@ -130,7 +139,8 @@ class Simulation {
   // uses: the one its medium="id" attribute names, else the only one of that
   // kind in <media>, else (none declared) one with default settings, shared
   // by every device that names none. On a problem records a diagnostic on
-  // `device` and returns nullptr. For sensor and actuator Configure.
+  // `device` and returns nullptr. For sensor and actuator Configure, which
+  // Create calls after building the media.
   Medium* MediumFor(const ConfigNode& device, const std::string& label);
   const std::vector<std::unique_ptr<Medium>>& media() const { return media_; }
 
@@ -142,7 +152,6 @@ class Simulation {
   Renderer& AddRenderer(const std::string& xml);
 
  private:
-  friend class ExperimentLoader;
   Simulation();
 
   struct ControllerConfig {
@@ -168,10 +177,45 @@ class Simulation {
     bool alive = true;
   };
 
+  // Building (core/simulation_create.cpp), in the order Create calls them.
+  // Problems are recorded in context_->diagnostics, thrown together after
+  // the plugins, after the arena and after the loop functions.
+  void Build(const ExperimentSpec& spec);
+  void CreateMedia(const std::vector<PluginSpec>& media);
+  void CreateControllers(const std::vector<ControllerSpec>& controllers);
+  template <class System>
+  void CreateDevices(const std::vector<PluginSpec>& devices, const char* what, std::vector<std::string>& labels,
+                     std::vector<System*>& systems, std::vector<ConfigNode>& nodes,
+                     std::vector<std::unique_ptr<System>>& owned);
+  void CreateEngines(const std::vector<EngineSpec>& engines);
+  void CreateRenderers(const std::vector<PluginSpec>& renderers);
+  bool CheckMemory(const ArenaSpec& arena);
+  void BuildArena(const ArenaSpec& arena);
+  void CreateLoopFunctions(const std::optional<PluginSpec>& loop_functions);
+  // A plugin element of the spec, reporting to this simulation's diagnostics.
+  ConfigNode Node(const ConfigNode& element) const { return ConfigNode(element.element(), context_.get()); }
+  // Checks `desc` (see AddEntity) and adds it. `placed`: while building,
+  // the footprints placed so far, which it must fit among (and joins);
+  // otherwise `check` says whether its place is checked against the space.
+  // Records problems and returns an invalid handle.
+  EntityHandle Add(const EntityDesc& desc, PlacementCheck check, PlacementIndex* placed);
+  // Why `init` cannot stand where it is among the entities now in the space, or "".
+  std::string PlaceProblemNow(const Space::EntityInit& init);
+  // The physics model of each engine for entity type `label` (nullptr: none).
+  std::vector<PhysicsModel*>& ModelsFor(uint16_t type, const std::string& label);
+  // The engines `desc` goes into (one if movable); none: records why.
+  std::vector<int> EnginesFor(const EntityDesc& desc, const std::vector<PhysicsModel*>& models);
+  // Takes out again an entity whose robot failed to start while running.
+  void Withdraw(const std::string& id);
+  // Records a problem with `desc` (its line and element, when from the file).
+  void EntityError(const EntityDesc& desc, const std::string& attribute, const std::string& value,
+                   const std::string& message);
+
   // Adds a described entity to the space, an engine and (robots) a controller.
-  // `engines`: the engines it goes into (one if movable).
+  // `engines`: the engines it goes into (one if movable); `line`: its line in
+  // the file, for messages.
   EntityHandle Instantiate(const EntityDesc& desc, PhysicsModel* const* models,
-                           const std::vector<int>& engines, const ConfigNode& where);
+                           const std::vector<int>& engines, int line);
   // Hands movable entities that left their engine's region to the engine
   // whose region now holds them.
   void Migrate();
@@ -186,7 +230,7 @@ class Simulation {
   // physics engine (...)" when `attaching`, plainly otherwise.
   std::string ComponentProblem(uint32_t slot, const std::vector<std::string>& needed,
                                const PhysicsEngine* engine, bool attaching) const;
-  void AttachController(Robot& robot, const ConfigNode& where);
+  void AttachController(Robot& robot, int line);
   void Act();
   void SenseAndControl();
   bool SensorsAlignWithRobots() const;
@@ -195,10 +239,12 @@ class Simulation {
   template <typename Hook>
   void CallLoopFunctions(const char* hook, uint64_t tick, Hook&& call);
 
-  // File and parsed document (kept for messages, runtime additions and output).
+  // File and parsed document (the plugins' elements; ResolvedXml), and the
+  // problems found building.
   std::string file_;
-  std::unique_ptr<tinyxml2::XMLDocument> document_;
+  std::shared_ptr<const SpecDocument> document_;
   std::unique_ptr<ConfigContext> context_;
+  std::unique_ptr<tinyxml2::XMLDocument> generated_;  // elements made here (default media)
 
   uint64_t tick_ = 0, length_ticks_ = 0, seed_ = 0;
   double dt_ = 0.1;
@@ -213,6 +259,7 @@ class Simulation {
   std::vector<std::vector<PhysicsModel*>> models_;
   std::vector<std::unique_ptr<PhysicsModel>> model_storage_;
   std::vector<int16_t> engine_of_;  // per space slot
+  std::vector<int> line_of_;        // per space slot: the entity's line in the file (0: none)
   std::vector<std::unique_ptr<SensorSystem>> sensor_systems_;
   std::vector<std::unique_ptr<ActuatorSystem>> actuator_systems_;
   std::vector<std::unique_ptr<ControllerConfig>> controller_configs_;

@@ -1,0 +1,185 @@
+// Placement checks, the load-time overlap index and <distribute> (see
+// core/placement.h).
+#include "core/placement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/geometry2d.h"
+
+namespace colony {
+
+namespace {
+
+bool HeightsOverlap(const Pose& a, const Geometry& ga, const Pose& b, const Geometry& gb) {
+  return a.position.z() < b.position.z() + gb.height() && b.position.z() < a.position.z() + ga.height();
+}
+
+// Separating axis test on the four edge normals.
+bool RectsOverlap(const Rect& a, const Rect& b) {
+  const Vec2 axes[4] = {{a.cos_yaw, a.sin_yaw}, {-a.sin_yaw, a.cos_yaw}, {b.cos_yaw, b.sin_yaw}, {-b.sin_yaw, b.cos_yaw}};
+  for (const Vec2& axis : axes) {
+    auto extent = [&](const Rect& r) {
+      return r.half.x() * std::abs(axis.dot(Vec2(r.cos_yaw, r.sin_yaw))) +
+             r.half.y() * std::abs(axis.dot(Vec2(-r.sin_yaw, r.cos_yaw)));
+    };
+    if (std::abs(axis.dot(a.center - b.center)) >= extent(a) + extent(b)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool FootprintsOverlap(const Pose& a, const Geometry& ga, const Pose& b, const Geometry& gb) {
+  if (!HeightsOverlap(a, ga, b, gb)) return false;
+  if (ga.shape == ShapeKind::kCylinder) return CircleOverlapsFootprint(a.position.head<2>(), ga.radius, b, gb);
+  if (gb.shape == ShapeKind::kCylinder) return CircleOverlapsFootprint(b.position.head<2>(), gb.radius, a, ga);
+  return RectsOverlap(RectOf(a, ga), RectOf(b, gb));
+}
+
+std::string OutsideArenaProblem(const Space::EntityInit& init, const Space& space) {
+  if (init.geometry.shape == ShapeKind::kNone) return "";
+  const Vec2 half = FootprintHalfExtents(init.geometry, init.pose.orientation);
+  const Vec3& p = init.pose.position;
+  const Vec3& lo = space.arena_min();
+  const Vec3& hi = space.arena_max();
+  // Down to a ditch's bottom when the footprint lies within the ditch.
+  double bottom = lo.z();
+  for (const Ditch& d : space.floor().ditches()) {
+    if (p.x() - half.x() >= d.min_x - 1e-9 && p.x() + half.x() <= d.max_x + 1e-9 && p.y() - half.y() >= d.min_y - 1e-9 &&
+        p.y() + half.y() <= d.max_y + 1e-9) {
+      bottom = std::min(bottom, lo.z() - d.depth);
+    }
+  }
+  if (p.x() - half.x() < lo.x() - 1e-9 || p.x() + half.x() > hi.x() + 1e-9 || p.y() - half.y() < lo.y() - 1e-9 ||
+      p.y() + half.y() > hi.y() + 1e-9 || p.z() < bottom - 1e-9 || p.z() + init.geometry.height() > hi.z() + 1e-9) {
+    std::ostringstream s;
+    s << "is outside the arena: its footprint spans x [" << p.x() - half.x() << ", " << p.x() + half.x() << "], y ["
+      << p.y() - half.y() << ", " << p.y() + half.y() << "], z [" << p.z() << ", " << p.z() + init.geometry.height()
+      << "] but the arena spans x [" << lo.x() << ", " << hi.x() << "], y [" << lo.y() << ", " << hi.y() << "], z ["
+      << lo.z() << ", " << hi.z() << "]";
+    return s.str();
+  }
+  return "";
+}
+
+const PlacementIndex::Item* PlacementIndex::FindOverlap(const Pose& pose, const Geometry& g, bool movable_only) const {
+  auto overlap = [&](uint32_t k) {
+    return (!movable_only || items_[k].movable) && FootprintsOverlap(pose, g, items_[k].pose, items_[k].geometry);
+  };
+  const CellSpan span = SpanOf(pose, g);
+  if (span.cells() > kMaxCellsPerItem) {
+    // A query larger than the cells it would visit tests every item.
+    for (uint32_t k = 0; k < items_.size(); ++k) {
+      if (overlap(k)) return &items_[k];
+    }
+    return nullptr;
+  }
+  for (int64_t cy = span.y0; cy <= span.y1; ++cy) {
+    for (int64_t cx = span.x0; cx <= span.x1; ++cx) {
+      auto it = cells_.find(Key(cx, cy));
+      if (it == cells_.end()) continue;
+      for (uint32_t k : it->second) {
+        if (overlap(k)) return &items_[k];
+      }
+    }
+  }
+  for (uint32_t k : large_) {
+    if (overlap(k)) return &items_[k];
+  }
+  return nullptr;
+}
+
+void PlacementIndex::Insert(const Pose& pose, const Geometry& g, const std::string& id, int line, bool movable) {
+  const uint32_t k = static_cast<uint32_t>(items_.size());
+  items_.push_back({pose, g, id, line, movable});
+  const CellSpan span = SpanOf(pose, g);
+  if (span.cells() > kMaxCellsPerItem) {
+    large_.push_back(k);
+    return;
+  }
+  for (int64_t cy = span.y0; cy <= span.y1; ++cy)
+    for (int64_t cx = span.x0; cx <= span.x1; ++cx)
+      cells_[Key(cx, cy)].push_back(k);
+}
+
+// Placed footprints lie inside the arena (checked first), so cell indices
+// stay far within int64 range.
+PlacementIndex::CellSpan PlacementIndex::SpanOf(const Pose& pose, const Geometry& g) const {
+  const Vec2 half = FootprintHalfExtents(g, pose.orientation);
+  const Vec3& p = pose.position;
+  return {Cell(p.x() - half.x()), Cell(p.y() - half.y()), Cell(p.x() + half.x()), Cell(p.y() + half.y())};
+}
+
+int64_t PlacementIndex::Cell(double v) const { return static_cast<int64_t>(std::floor(v / cell_)); }
+
+std::string PlacementProblem(const Space::EntityInit& init, const Space& space, const PlacementIndex& index) {
+  if (init.geometry.shape == ShapeKind::kNone) return "";
+  if (std::string outside = OutsideArenaProblem(init, space); !outside.empty()) return outside;
+  if (!(init.flags & kSolid)) return "";
+  // Non-movable things may touch each other (walls meet at corners);
+  // anything movable must start clear of everything, whichever comes first.
+  const bool movable = init.flags & kMovable;
+  if (const auto* other = index.FindOverlap(init.pose, init.geometry, !movable)) {
+    return "overlaps '" + other->id + "' (line " + std::to_string(other->line) + ")";
+  }
+  return "";
+}
+
+Vec3 Draw(const DistributeDraw& draw, RandomStream& rng, size_t index) {
+  const auto& a = draw.a;
+  const auto& b = draw.b;
+  auto unit = [&](double v) { return draw.degrees ? DegToRad(v) : v; };
+  switch (draw.method) {
+    case DistributeDraw::Method::kUniform:
+      return Vec3(rng.Uniform(unit(a[0]), unit(b[0])), rng.Uniform(unit(a[1]), unit(b[1])),
+                  rng.Uniform(unit(a[2]), unit(b[2])));
+    case DistributeDraw::Method::kGaussian:
+      return Vec3(rng.Gaussian(unit(a[0]), unit(b[0])), rng.Gaussian(unit(a[1]), unit(b[1])),
+                  rng.Gaussian(unit(a[2]), unit(b[2])));
+    case DistributeDraw::Method::kGrid: {
+      // Places filled x fastest, then y, then z, centred on a.
+      const auto& n = draw.layout;
+      const int64_t i = static_cast<int64_t>(index);
+      const int64_t k[3] = {i % n[0], i / n[0] % n[1], i / (n[0] * n[1])};
+      Vec3 v;
+      for (int c = 0; c < 3; ++c) v[c] = unit(a[c] + (static_cast<double>(k[c]) - (n[c] - 1) / 2.0) * b[c]);
+      return v;
+    }
+    case DistributeDraw::Method::kConstant:
+      break;
+  }
+  return Vec3(unit(a[0]), unit(a[1]), unit(a[2]));
+}
+
+void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::string& file,
+                      const std::function<std::string(const EntityDesc&)>& problem,
+                      const std::function<bool(const EntityDesc&)>& add, Diagnostics& diagnostics) {
+  RandomStream rng = RandomStream::For(seed, "distribute", std::to_string(block.line));
+  const std::string& base_id = block.entity.init.id;
+  EntityDesc desc = block.entity;
+  for (int64_t i = 0; i < block.quantity; ++i) {
+    desc.init.id = base_id + std::to_string(block.base_num + i);
+    bool placed = false;
+    std::string last_problem;
+    for (int64_t trial = 0; trial < block.max_trials && !placed; ++trial) {
+      desc.init.pose.position = Draw(block.position, rng, static_cast<size_t>(i));
+      const Vec3 o = Draw(block.orientation, rng, static_cast<size_t>(i));
+      desc.init.pose.orientation = FromEulerZYX(o[0], o[1], o[2]);
+      last_problem = problem(desc);
+      placed = last_problem.empty();
+    }
+    if (!placed) {
+      diagnostics.Add(Diagnostic{
+          file, block.entity_line, "entity", "max_trials", std::to_string(block.max_trials),
+          "could place only " + std::to_string(i) + " of " + std::to_string(block.quantity) + " entities: '" +
+              desc.init.id + "' found no free place in " + std::to_string(block.max_trials) + " trials (last try: it " +
+              last_problem + "); enlarge the <position> range or the arena, lower quantity, or raise max_trials"});
+      return;
+    }
+    if (!add(desc)) return;
+  }
+}
+
+}  // namespace colony

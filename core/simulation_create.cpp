@@ -1,0 +1,501 @@
+// Building a simulation from an ExperimentSpec (core/experiment_spec.h), and
+// adding entities to it while it runs.
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <sstream>
+#include <variant>
+
+#include "core/bounds.h"
+#include "core/placement.h"
+#include "core/simulation.h"
+
+namespace colony {
+
+namespace {
+
+// The registered plugin a spec names. A spec the reader made names only
+// registered ones; a program may have changed it.
+template <class Base>
+const typename Registry<Base>::Entry* FindEntry(const PluginSpec& plugin, const ConfigNode& node, const char* what) {
+  if (const auto* entry = Registry<Base>::Get().Find(plugin.label, plugin.implementation)) return entry;
+  node.ElementError(std::string("no ") + what + " '" + plugin.label + "' (implementation '" + plugin.implementation +
+                    "') is registered; accepted: " + Join(Registry<Base>::Get().Labels()));
+  return nullptr;
+}
+
+// The entity as messages name it: `box id="b"`.
+std::string EntityLabel(const EntityDesc& desc) {
+  return desc.type + (desc.init.id.empty() ? "" : " id=\"" + desc.init.id + "\"");
+}
+
+}  // namespace
+
+std::unique_ptr<Simulation> Simulation::Create(const ExperimentSpec& spec) {
+  std::unique_ptr<Simulation> sim(new Simulation());
+  sim->Build(spec);
+  return sim;
+}
+
+std::unique_ptr<Simulation> Simulation::Load(const ExperimentOptions& options) {
+  return Create(ReadExperimentSpec(options));
+}
+
+void Simulation::Build(const ExperimentSpec& spec) {
+  file_ = spec.file;
+  document_ = spec.document;
+  context_ = std::make_unique<ConfigContext>();
+  context_->file = file_;
+  dt_ = spec.dt;
+  length_ticks_ = spec.length_ticks;
+  seed_ = spec.seed;
+  threads_ = std::max(1, spec.threads);
+  output_ = spec.output;
+  Diagnostics& diagnostics = context_->diagnostics;
+  // Media first: sensors and actuators look theirs up when configured.
+  CreateMedia(spec.media);
+  CreateControllers(spec.controllers);
+  CreateEngines(spec.engines);
+  CreateRenderers(spec.renderers);
+  diagnostics.ThrowIfAny();
+  pool_ = std::make_unique<ThreadPool>(threads_);
+  rng_ = RandomStream::For(seed_, "loop_functions", "");
+  BuildArena(spec.arena);
+  diagnostics.ThrowIfAny();
+  CreateLoopFunctions(spec.loop_functions);
+  diagnostics.ThrowIfAny();
+  space_.UpdateIndex();
+}
+
+void Simulation::CreateMedia(const std::vector<PluginSpec>& media) {
+  for (const PluginSpec& m : media) {
+    const ConfigNode node = Node(m.node);
+    const auto* entry = FindEntry<Medium>(m, node, "medium");
+    if (!entry) continue;
+    auto medium = entry->create();
+    medium->Bind(this, m.id, entry->info.label);
+    medium->Configure(node);
+    media_.push_back(std::move(medium));
+  }
+}
+
+void Simulation::CreateControllers(const std::vector<ControllerSpec>& controllers) {
+  for (const ControllerSpec& c : controllers) {
+    const ConfigNode node = Node(c.plugin.node);
+    const auto* entry = FindEntry<Controller>(c.plugin, node, "controller");
+    if (!entry) continue;
+    auto config = std::make_unique<ControllerConfig>();
+    config->id = c.plugin.id;
+    config->label = c.plugin.label;
+    config->entry = entry;
+    config->node = node;
+    config->params = c.params;
+    CreateDevices(c.sensors, "sensor", config->sensor_labels, config->sensors, config->sensor_nodes, sensor_systems_);
+    CreateDevices(c.actuators, "actuator", config->actuator_labels, config->actuators, config->actuator_nodes,
+                  actuator_systems_);
+    controller_configs_.push_back(std::move(config));
+  }
+}
+
+// One system per device element of a controller's <sensors> or <actuators>.
+template <class System>
+void Simulation::CreateDevices(const std::vector<PluginSpec>& devices, const char* what,
+                               std::vector<std::string>& labels, std::vector<System*>& systems,
+                               std::vector<ConfigNode>& nodes, std::vector<std::unique_ptr<System>>& owned) {
+  for (const PluginSpec& d : devices) {
+    const ConfigNode node = Node(d.node);
+    const auto* entry = FindEntry<System>(d, node, what);
+    if (!entry) continue;
+    auto system = entry->create();
+    system->Bind(this);
+    system->Configure(node);
+    labels.push_back(d.label);
+    systems.push_back(system.get());
+    nodes.push_back(node);
+    owned.push_back(std::move(system));
+  }
+}
+
+void Simulation::CreateEngines(const std::vector<EngineSpec>& engines) {
+  std::vector<int> lines;  // of each engine's element
+  for (const EngineSpec& spec : engines) {
+    const ConfigNode node = Node(spec.plugin.node);
+    const auto* entry = FindEntry<PhysicsEngine>(spec.plugin, node, "physics engine");
+    if (!entry) continue;
+    const std::string& id = spec.plugin.id;
+    auto engine = entry->create();
+    engine->Bind(this, id, entry->info.label);
+    engine->Configure(node);
+    if (spec.region) engine->SetRegion(*spec.region);
+    // 3D engines (gravity, ditches, stacking) and 2D ones (bodies on the floor) do not mix.
+    if (!engines_.empty() && engine->Is3D() != engines_.front()->Is3D()) {
+      const PhysicsEngine& first = *engines_.front();
+      const auto dims = [](const PhysicsEngine& e) { return e.Is3D() ? std::string("3D") : std::string("2D"); };
+      node.ElementError(engine->label() + " '" + id + "' is a " + dims(*engine) + " engine and cannot share an experiment with " +
+                        dims(first) + " engines (" + first.label() + " '" + first.id() + "', line " +
+                        std::to_string(lines.front()) + "); use only 3D engines or only 2D ones");
+    }
+    // Two engines of one kind must not simulate the same place.
+    for (size_t k = 0; k < engines_.size(); ++k) {
+      const PhysicsEngine& other = *engines_[k];
+      if (other.label() != engine->label()) continue;
+      const bool overlap = !engine->region() || !other.region() || engine->region()->Overlaps(*other.region());
+      if (overlap) {
+        node.ElementError("the region of " + engine->label() + " '" + id + "' overlaps that of " + other.label() +
+                          " '" + other.id() + "' (line " + std::to_string(lines[k]) + ")" +
+                          (!engine->region() || !other.region() ? "; an engine without <boundaries> covers the whole arena" : ""));
+      }
+    }
+    lines.push_back(node.line());
+    engines_.push_back(std::move(engine));
+  }
+}
+
+void Simulation::CreateRenderers(const std::vector<PluginSpec>& renderers) {
+  for (const PluginSpec& r : renderers) {
+    const ConfigNode node = Node(r.node);
+    const auto* entry = FindEntry<Renderer>(r, node, "renderer");
+    if (!entry) continue;
+    auto renderer = entry->create();
+    renderer->Bind(this);
+    renderer->Configure(node);
+    renderers_.push_back(std::move(renderer));
+  }
+}
+
+// Refuses the arena's entities, before any is built, when together they
+// would need more memory than the machine has: a rough estimate per entity
+// (core/bounds.h) times the quantity of every <distribute> block, plus the
+// entities listed one by one.
+bool Simulation::CheckMemory(const ArenaSpec& arena) {
+  const uint64_t available = AvailableMemoryBytes();
+  auto bytes_of = [](const EntityDesc& desc) -> uint64_t {
+    const auto* entry = Registry<EntityType>::Get().Find(desc.type);
+    return entry && EntityTypeInstance(*entry).is_robot() ? kEstimatedBytesPerRobot : kEstimatedBytesPerEntity;
+  };
+  double needed = 0;
+  for (const auto& item : arena.contents) {
+    if (const auto* desc = std::get_if<EntityDesc>(&item)) {
+      needed += static_cast<double>(bytes_of(*desc));
+      continue;
+    }
+    const DistributeSpec& block = std::get<DistributeSpec>(item);
+    uint64_t each = bytes_of(block.entity);
+    for (const auto& c : controller_configs_) {
+      if (c->id != block.entity.controller) continue;
+      for (const SensorSystem* sensor : c->sensors) each += sensor->BytesPerRobot();
+      for (const ActuatorSystem* actuator : c->actuators) each += actuator->BytesPerRobot();
+    }
+    const double before = needed;
+    needed += static_cast<double>(each) * static_cast<double>(block.quantity);
+    if (needed <= static_cast<double>(available)) continue;
+    const double room = std::max(0.0, (static_cast<double>(available) - before) / static_cast<double>(each));
+    const std::string quantity = std::to_string(block.quantity);
+    context_->diagnostics.Add(Diagnostic{
+        file_, block.entity_line, "entity", "quantity", quantity,
+        quantity + " " + block.entity.type + " entities would need about " + FormatBytes(needed) +
+            " of memory (about " + FormatBytes(static_cast<double>(each)) + " each" +
+            (before > 0 ? ", with the entities before them" : "") + "), more than the " +
+            FormatBytes(static_cast<double>(available)) + " this machine has; accepted: at most " +
+            std::to_string(static_cast<uint64_t>(room)) + " of them here"});
+    return false;
+  }
+  return true;
+}
+
+void Simulation::BuildArena(const ArenaSpec& arena) {
+  if (!CheckMemory(arena)) return;
+  space_.SetArena(arena.center, arena.size);
+  const Vec3 lo = arena.center - 0.5 * arena.size, hi = arena.center + 0.5 * arena.size;
+  Floor& floor = space_.floor();
+  for (const Ditch& ditch : arena.floor.ditches) floor.AddDitch(ditch);
+  floor.SetColor(arena.floor.color);
+  if (!arena.floor.image.empty()) {
+    std::filesystem::path p(arena.floor.image);
+    if (p.is_relative() && !file_.empty()) {
+      const auto rel = std::filesystem::path(file_).parent_path() / p;
+      std::error_code ec;
+      if (std::filesystem::exists(rel, ec)) p = rel;
+    }
+    const std::string error = floor.LoadImage(p.string(), lo.x(), lo.y(), hi.x(), hi.y());
+    if (!error.empty()) {
+      context_->diagnostics.Add(Diagnostic{file_, arena.floor.line, "floor", "path", arena.floor.image, error});
+    }
+  }
+  PlacementIndex placed(0.5);
+  for (const EntityDesc& wall : arena.walls) Add(wall, PlacementCheck::kClear, &placed);
+  auto problem = [&](const EntityDesc& desc) { return PlacementProblem(desc.init, space_, placed); };
+  auto add = [&](const EntityDesc& desc) { return Add(desc, PlacementCheck::kClear, &placed).valid(); };
+  for (const auto& item : arena.contents) {
+    if (const auto* desc = std::get_if<EntityDesc>(&item)) {
+      Add(*desc, PlacementCheck::kClear, &placed);
+    } else {
+      PlaceDistributed(std::get<DistributeSpec>(item), seed_, file_, problem, add, context_->diagnostics);
+    }
+  }
+}
+
+void Simulation::CreateLoopFunctions(const std::optional<PluginSpec>& loop_functions) {
+  if (!loop_functions) return;
+  const ConfigNode node = Node(loop_functions->node);
+  const auto* entry = FindEntry<LoopFunctions>(*loop_functions, node, "loop functions");
+  if (!entry) return;
+  const ConfigNode params_node = node.Child("params");
+  const Params params = params_node.valid() ? params_node.ToParams() : Params();
+  auto lf = entry->create();
+  lf->Bind(this);
+  try {
+    lf->Init(params);
+  } catch (const ParamError& e) {
+    params_node.Error(e.key(), e.value(), e.what());
+  }
+  loop_functions_.push_back(std::move(lf));
+  loop_function_info_.push_back(&entry->info);
+}
+
+void Simulation::EntityError(const EntityDesc& desc, const std::string& attribute, const std::string& value,
+                             const std::string& message) {
+  context_->diagnostics.Add(
+      Diagnostic{desc.line > 0 ? file_ : "", desc.line, EntityLabel(desc), attribute, value, message});
+}
+
+EntityHandle Simulation::Add(const EntityDesc& desc, PlacementCheck check, PlacementIndex* placed) {
+  const auto& registry = Registry<EntityType>::Get();
+  const auto* entry = registry.Find(desc.type);
+  if (!entry) {
+    std::string message = "unknown entity type '" + desc.type + "'";
+    const std::string guess = DidYouMean(desc.type, registry.Labels());
+    if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
+    EntityError(desc, "", "", message + "; accepted: " + Join(registry.Labels()));
+    return {};
+  }
+  const EntityType& type = EntityTypeInstance(*entry);
+  const std::string& id = desc.init.id;
+  if (id.empty()) {
+    EntityError(desc, "id", "", "an entity needs an id, unique in the experiment");
+    return {};
+  }
+  if (type.is_robot()) {
+    std::vector<std::string> ids;
+    for (const auto& c : controller_configs_) ids.push_back(c->id);
+    if (std::find(ids.begin(), ids.end(), desc.controller) == ids.end()) {
+      std::string message = desc.controller.empty()
+                                ? "a " + entry->info.label + " needs a controller: the id of one of the <controllers>"
+                                : "no controller with id '" + desc.controller + "' is defined in <controllers>";
+      const std::string guess = desc.controller.empty() ? "" : DidYouMean(desc.controller, ids);
+      if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
+      EntityError(desc, "", "", message + (ids.empty() ? "; none is defined" : "; defined: " + Join(ids)));
+      return {};
+    }
+  } else if (!desc.controller.empty()) {
+    EntityError(desc, "", "", "a " + entry->info.label + " carries no controller (only robots do); accepted: none");
+    return {};
+  }
+  if (const EntityHandle existing = space_.Find(id); existing.valid()) {
+    const int first = line_of_[existing.index];
+    const std::string where = first > 0 ? " (first defined at line " + std::to_string(first) + ")" : "";
+    EntityError(desc, "id", id, "duplicate entity id '" + id + "'" + where);
+    return {};
+  }
+  if (placed || check == PlacementCheck::kClear) {
+    const std::string problem = placed ? PlacementProblem(desc.init, space_, *placed) : PlaceProblemNow(desc.init);
+    if (!problem.empty()) {
+      EntityError(desc, "", "",
+                  "entity '" + id + "' " + problem +
+                      "; accepted: a body wholly inside the arena, not overlapping solid entities "
+                      "(only fixed ones may overlap each other)");
+      return {};
+    }
+  }
+  const Space::EntityInit& init = desc.init;
+  const uint16_t type_id = space_.TypeId(entry->info.label);
+  if (entity_types_.size() <= type_id) entity_types_.resize(type_id + 1);
+  entity_types_[type_id] = {&type, type_id};
+  const std::vector<PhysicsModel*>& models = ModelsFor(type_id, entry->info.label);
+  const bool simulated = std::any_of(models.begin(), models.end(), [](PhysicsModel* m) { return m; });
+  if (init.geometry.shape != ShapeKind::kNone && !simulated) {
+    std::vector<std::string> engines;
+    for (const auto& e : engines_) engines.push_back(e->label() + " '" + e->id() + "'");
+    EntityError(desc, "", "",
+                engines.empty()
+                    ? "entity '" + id + "' needs a physics engine, but <physics_engines> declares none; add e.g. <kinematics2d id=\"k2d\"/>"
+                    : "no physics engine of this experiment can simulate a '" + entry->info.label +
+                          "' (engines: " + Join(engines) + "; no model registered for " +
+                          engines_.front()->label() + ":" + entry->info.label + ")");
+    return {};
+  }
+  const std::vector<int> engines = EnginesFor(desc, models);
+  if (init.geometry.shape != ShapeKind::kNone && engines.empty()) return {};
+  if (placed && (init.flags & kSolid)) placed->Insert(init.pose, init.geometry, id, desc.line, init.flags & kMovable);
+  EntityDesc typed = desc;
+  typed.init.type = type_id;
+  return Instantiate(typed, models.data(), engines, desc.line);
+}
+
+std::string Simulation::PlaceProblemNow(const Space::EntityInit& init) {
+  if (init.geometry.shape == ShapeKind::kNone) return "";
+  if (std::string outside = OutsideArenaProblem(init, space_); !outside.empty()) return outside;
+  if (!(init.flags & kSolid)) return "";
+  if (space_.index_dirty()) space_.UpdateIndex();
+  const Vec2 half = FootprintHalfExtents(init.geometry, init.pose.orientation);
+  const Vec3& p = init.pose.position;
+  std::vector<uint32_t> near;
+  space_.Gather(p.x() - half.x(), p.y() - half.y(), p.x() + half.x(), p.y() + half.y(), near);
+  std::sort(near.begin(), near.end());
+  // As at load: fixed entities may touch each other.
+  const bool movable = init.flags & kMovable;
+  for (uint32_t s : near) {
+    if (!movable && !space_.movable(s)) continue;
+    if (!FootprintsOverlap(init.pose, init.geometry, space_.pose(s), space_.geometry(s))) continue;
+    return "overlaps '" + space_.id(s) + "'" + (line_of_[s] > 0 ? " (line " + std::to_string(line_of_[s]) + ")" : "");
+  }
+  return "";
+}
+
+std::vector<PhysicsModel*>& Simulation::ModelsFor(uint16_t type, const std::string& label) {
+  if (models_.size() <= type) models_.resize(type + 1);
+  auto& models = models_[type];
+  if (models.size() != engines_.size()) {
+    models.assign(engines_.size(), nullptr);
+    for (size_t e = 0; e < engines_.size(); ++e) {
+      if (const auto* m = Registry<PhysicsModel>::Get().Find(engines_[e]->label() + ":" + label)) {
+        model_storage_.push_back(m->create());
+        models[e] = model_storage_.back().get();
+      }
+    }
+  }
+  return models;
+}
+
+std::vector<int> Simulation::EnginesFor(const EntityDesc& desc, const std::vector<PhysicsModel*>& models) {
+  std::vector<int> chosen;
+  const auto& init = desc.init;
+  if (init.geometry.shape == ShapeKind::kNone) return chosen;
+  const Vec3& p = init.pose.position;
+  const Vec2 half = FootprintHalfExtents(init.geometry, init.pose.orientation);
+  const bool movable = init.flags & kMovable;
+  // A movable entity goes to the first engine (in file order) whose region
+  // holds it; a fixed one to every engine whose region it touches.
+  for (size_t e = 0; e < engines_.size(); ++e) {
+    if (!models[e]) continue;
+    const PhysicsEngine& engine = *engines_[e];
+    if (movable && engine.Holds(p)) {
+      chosen.push_back(static_cast<int>(e));
+      break;
+    }
+    if (!movable && (!engine.region() || engine.region()->Touches(p.head<2>(), half, p.z(), p.z() + init.geometry.height()))) {
+      chosen.push_back(static_cast<int>(e));
+    }
+  }
+  if (chosen.empty()) {
+    std::vector<std::string> names;
+    for (size_t e = 0; e < engines_.size(); ++e)
+      if (models[e]) names.push_back(engines_[e]->label() + " '" + engines_[e]->id() + "'");
+    std::ostringstream s;
+    s << "entity '" << init.id << "' at (" << p.x() << ", " << p.y() << ", " << p.z() << ") is "
+      << (movable ? "inside" : "touching") << " no engine's <boundaries> (engines that can simulate it: "
+      << Join(names) << ")";
+    EntityError(desc, "", "", s.str());
+  }
+  return chosen;
+}
+
+EntityHandle Simulation::AddEntity(const EntityDesc& desc, PlacementCheck check) {
+  const bool id_was_free = !space_.Find(desc.init.id).valid();
+  EntityHandle h;
+  try {
+    h = Add(desc, check, nullptr);
+    context_->diagnostics.ThrowIfAny();
+  } catch (const ConfigError&) {
+    // A robot whose devices or controller failed to start is taken out again.
+    if (id_was_free) Withdraw(desc.init.id);
+    throw;
+  }
+  space_.UpdateIndex();
+  return h;
+}
+
+EntityHandle Simulation::AddEntity(const std::string& xml) { return AddEntity(ReadEntityDesc(xml, "<AddEntity>")); }
+
+void Simulation::Withdraw(const std::string& id) {
+  const EntityHandle h = space_.Find(id);
+  if (!h.valid() || robot_of_[h.index] < 0) return;
+  // Its devices are detached and its controller deleted (not Destroyed: it
+  // did not start).
+  Robot& robot = robots_[robot_of_[h.index]];
+  ControllerConfig& config = *robot.config;
+  for (size_t i = 0; i < config.sensors.size(); ++i) {
+    if (robot.sensors[i]) config.sensors[i]->Detach(robot.sensors[i]);
+  }
+  for (size_t i = 0; i < config.actuators.size(); ++i) {
+    if (robot.actuators[i]) config.actuators[i]->Detach(robot.actuators[i]);
+  }
+  robot.controller.reset();
+  robot.alive = false;
+  robot_of_[h.index] = -1;
+  for (auto& engine : engines_) {
+    if (!engine->Owns(h.index)) continue;
+    engine->RemoveEntity(h);
+    engine->SetOwned(h.index, false);
+  }
+  engine_of_[h.index] = -1;
+  space_.Remove(h);
+  space_.UpdateIndex();
+}
+
+Medium* Simulation::MediumFor(const ConfigNode& device, const std::string& label) {
+  auto& registry = Registry<Medium>::Get();
+  if (device.Has("medium")) {
+    const std::string id = device.GetString("medium", "");
+    std::vector<std::string> same_kind;
+    for (auto& m : media_) {
+      if (m->id() == id) {
+        if (m->label() == label) return m.get();
+        device.Error("medium", id, "medium '" + id + "' is a <" + m->label() + ">, not a <" + label + ">");
+        return nullptr;
+      }
+      if (m->label() == label) same_kind.push_back(m->id());
+    }
+    device.Error("medium", id, "no medium with id '" + id + "' in <media>; accepted: " +
+                                   (same_kind.empty() ? "the id of a <" + label + "> declared in <media>"
+                                                      : Join(same_kind)));
+    return nullptr;
+  }
+  Medium* found = nullptr;
+  int count = 0;
+  for (auto& m : media_) {
+    if (m->label() == label) {
+      found = m.get();
+      ++count;
+    }
+  }
+  if (count == 1) return found;
+  if (count > 1) {
+    device.ElementError("<media> declares several <" + label + "> media; say which with medium=\"id\"");
+    return nullptr;
+  }
+  // None declared: one with default settings, shared by every device that names none.
+  const auto* entry = registry.Find(label, "default");
+  if (!entry) {
+    device.ElementError("needs a <" + label + "> medium, and none is available in this build");
+    return nullptr;
+  }
+  if (!generated_) generated_ = std::make_unique<tinyxml2::XMLDocument>();
+  auto* element = generated_->NewElement(label.c_str());
+  element->SetAttribute("id", label.c_str());
+  auto medium = entry->create();
+  medium->Bind(this, label, label);
+  medium->Configure(ConfigNode(element, context_.get()));
+  media_.push_back(std::move(medium));
+  return media_.back().get();
+}
+
+std::string Simulation::ResolvedXml() const {
+  if (!document_) return "";
+  tinyxml2::XMLPrinter printer;
+  document_->xml->Print(&printer);
+  return printer.CStr();
+}
+
+}  // namespace colony
