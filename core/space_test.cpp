@@ -122,6 +122,50 @@ TEST_F(core_test_space, RemoveForgetsTheEntity) {
   EXPECT_EQ(space.alive_count(), 1u);
 }
 
+// A component type of this test only: the space stores it like any other.
+struct TestArm {
+  static constexpr const char* kComponentName = "core_test_arm";
+  double angle = 0;
+  void Hash(StateHasher& h) const { h.Add(&angle, sizeof angle); }
+};
+
+TEST_F(core_test_space, EntitiesCarryOnlyTheComponentsTheyWereMadeWith) {
+  Space::EntityInit with_arm = Robot("armed", robot_type, 1, 1);
+  with_arm.components.Add<TestArm>().angle = 0.5;
+  const Space::EntityInit copy = with_arm;  // templates are copied, components and all
+  with_arm.components.Find<TestArm>()->angle = 0.7;
+  const EntityHandle a = space.Add(with_arm);
+  const EntityHandle b = space.Add(Robot("plain", robot_type, 2, 2));
+  const EntityHandle w = space.Add(Wall("w", box_type, 0, 0, 1, 0.1));
+  ASSERT_NE(space.Get<TestArm>(a.index), nullptr);
+  EXPECT_EQ(space.Get<TestArm>(a.index)->angle, 0.7);
+  EXPECT_EQ(copy.components.Find<TestArm>()->angle, 0.5);
+  ASSERT_NE(space.drive(a.index), nullptr);
+  EXPECT_EQ(space.drive(a.index)->wheel_base, 0.1);
+  EXPECT_EQ(space.Get<TestArm>(b.index), nullptr);
+  EXPECT_NE(space.drive(b.index), nullptr);
+  EXPECT_EQ(space.drive(w.index), nullptr);
+  EXPECT_TRUE(space.ComponentsOf(w.index).empty());
+  EXPECT_EQ(space.ComponentsOf(a.index),
+            (std::vector<ComponentType>{ComponentTypeOf<DriveState>(), ComponentTypeOf<TestArm>()}));
+  EXPECT_EQ(ComponentName(ComponentTypeOf<TestArm>()), "core_test_arm");
+  // The state hash sees the component's state.
+  auto hash = [&] {
+    StateHasher h;
+    space.Hash(h);
+    return h.value();
+  };
+  const uint64_t before = hash();
+  space.Get<TestArm>(a.index)->angle = 0.9;
+  EXPECT_NE(hash(), before);
+  // A removed entity's components are gone; a new entity in its slot has its own.
+  space.Remove(a);
+  const EntityHandle c = space.Add(Robot("c", robot_type, 3, 3));
+  EXPECT_EQ(c.index, a.index);
+  EXPECT_EQ(space.Get<TestArm>(c.index), nullptr);
+  EXPECT_EQ(space.Pool<TestArm>().owner(0), ComponentPoolBase::kNoOwner);
+}
+
 TEST_F(core_test_space, HandlesDetectReuseOfASlot) {
   const EntityHandle old = space.Add(Robot("a", robot_type, 1, 2));
   space.Remove(old);

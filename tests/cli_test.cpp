@@ -157,6 +157,23 @@ TEST(Cli, QueryListsPluginsWithTheirAttributes) {
   EXPECT_EQ(kind.output.find("marxbot"), std::string::npos);
 }
 
+// Physics models say which components they simulate: what decides which
+// engine accepts a gripper or a manipulator.
+TEST(Cli, QueryShowsWhatEachPhysicsModelSimulates) {
+  const Result models = Colony("query physics_model");
+  ASSERT_EQ(models.status, 0) << models.output;
+  EXPECT_NE(models.output.find("kinematics2d:marxbot\n      circular footprint moved by its differential drive; stops "
+                               "at obstacles\n      simulates: drive\n"),
+            std::string::npos)
+      << models.output;
+  EXPECT_NE(models.output.find("simulates: drive, gripper"), std::string::npos) << models.output;
+  EXPECT_NE(models.output.find("simulates: drive, manipulator"), std::string::npos) << models.output;
+  EXPECT_NE(models.output.find("kinematics2d:box\n      fixed obstacle, movable or not (not pushed in this "
+                               "engine)\n      simulates: (no components)\n"),
+            std::string::npos)
+      << models.output;
+}
+
 TEST(Cli, Version) {
   const Result r = Colony("version");
   EXPECT_EQ(r.status, 0);

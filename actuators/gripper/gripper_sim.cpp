@@ -1,7 +1,8 @@
 // Simulated turret and gripper: the turret turns towards its target at
 // turret_speed (not while holding); the grip command goes to the engine,
-// which joins the robot to what is in front of the jaws. Only engines that
-// simulate gripping accept it (dynamics2d); elsewhere it is a load-time error.
+// which joins the robot to what is in front of the jaws. It needs the robot's
+// "gripper" component, which only dynamics2d's marXbot model simulates;
+// elsewhere it is a load-time error.
 #include <algorithm>
 #include <cmath>
 

@@ -267,6 +267,10 @@ int Query(const std::vector<std::string>& args) {
       for (const auto& a : p->aliases) std::printf(", alias %s", a.c_str());
       std::printf("\n      %s\n", p->summary.c_str());
       if (!p->library.empty()) std::printf("      library: %s\n", p->library.c_str());
+      if (kind == colony::PluginKind::kPhysicsModel) {
+        std::printf("      simulates: %s\n",
+                    p->components.empty() ? "(no components)" : colony::Join(p->components).c_str());
+      }
       if (name_match || kind_match) {
         for (const auto& a : p->attributes) {
           std::printf("      %s = %s%s%s\n          %s\n", a.name.c_str(), a.accepted.c_str(),
