@@ -85,11 +85,23 @@ RunningScope::~RunningScope() { running = previous_; }
 
 void UseAlternateSignalStack() {
   constexpr size_t kSize = 1 << 16;
-  thread_local std::unique_ptr<char[]> alternate;
-  if (alternate) return;
-  alternate.reset(new char[kSize]);
+  // A stack the thread already has (its own, or one a sanitizer runtime gave
+  // it and will unmap when the thread ends) is kept.
+  stack_t current{};
+  if (sigaltstack(nullptr, &current) == 0 && !(current.ss_flags & SS_DISABLE)) return;
+  // Freed when the thread ends, once it no longer is the thread's signal stack.
+  struct Alternate {
+    std::unique_ptr<char[]> memory;
+    ~Alternate() {
+      stack_t off{};
+      off.ss_flags = SS_DISABLE;
+      sigaltstack(&off, nullptr);
+    }
+  };
+  thread_local Alternate alternate;
+  alternate.memory.reset(new char[kSize]);
   stack_t stack{};
-  stack.ss_sp = alternate.get();
+  stack.ss_sp = alternate.memory.get();
   stack.ss_size = kSize;
   sigaltstack(&stack, nullptr);
 }
