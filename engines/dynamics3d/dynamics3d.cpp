@@ -6,26 +6,19 @@
 // contact uses the smaller of its two materials' coefficients). The floor is
 // static geometry: a plane, or, when the floor has ditches, static boxes
 // around the ditch rectangles with the ditch bottoms `depth` lower. Fixed
-// entities are static geoms; movable ones are bodies.
+// entities are static geoms; movable ones are bodies, built by their type's
+// model (dynamics3d.h; the marXbot's is entities/marxbot/dynamics3d_model.cpp).
+// A cube landing on another within the capture tolerance is put square on it
+// and bonded to it with a breakable fixed joint (the magnets beneath it, the
+// plates on top). README.md gives the figures and their reasons.
 //
-// The marXbot is one rigid body: the round body, a low central belly (the
-// battery) and two treels of two wheels each. A treel's tread moves at the
-// treel's commanded speed (ODE's contact surface motion along the wheel's
-// rolling direction), so the ground pushes the robot as a turning wheel
-// would, up to min(friction x load, motor torque / wheel radius); beyond that
-// the tread slips. With manipulator="true" a head rides on a piston joint in
-// front of the body (slides up and down, turns about its vertical axis),
-// both motions motor-driven at the state's speeds; its magnet, when fully
-// engaged, holds the construction cube whose low side plate it touches with
-// a breakable fixed joint. A cube landing on another within the capture
-// tolerance is put square on it and bonded to it with a breakable fixed
-// joint (the magnets beneath it, the plates on top). README.md gives the
-// figures and their reasons.
-//
-// Determinism: everything is added and iterated in slot order; ODE's
-// quickstep draws from one process-wide random state, which each engine sets
-// and saves around its step under a lock, so engines stepping in parallel do
-// not disturb each other's draws.
+// Determinism: everything is added and iterated in slot order (models in the
+// order their first entity came); ODE's quickstep draws from one
+// process-wide random state, which each engine sets and saves around its
+// step under a lock, so engines stepping in parallel do not disturb each
+// other's draws.
+#include "engines/dynamics3d/dynamics3d.h"
+
 #include <ode/ode.h>
 
 #include <algorithm>
@@ -36,85 +29,76 @@
 #include <mutex>
 #include <vector>
 
-#include "actuators/manipulator/manipulator_state.h"
-#include "core/engine.h"
 #include "core/simulation.h"
-#include "entities/marxbot/marxbot.h"
 
 namespace colony {
+namespace dynamics3d {
+
+// A geom's data holds (owner slot << 8) | (part << 3) | material.
 namespace {
-
-constexpr uint32_t kNone = 0xFFFFFFFFu;
-
-// ---------------------------------------------------------------------------
-// The marXbot in 3D (robot frame: x forward, y left, z up, origin at the
-// centre of the base on the floor). Figures not in the sources are choices,
-// explained in README.md (they were tuned so that the robot falls into a
-// ditch one cube wide and deep, and crosses it over two cubes).
-struct MarxbotGeometry {
-  double treel_wheel_radius = 0.025;  // m, the spheres the treels touch the ground with
-  double treel_y = 0.06;              // m, treel contact lines at y = +-0.06
-  double treel_half_span = 0.03;      // m, wheels at x = +-0.03
-  double belly_half_length = 0.03;    // m, the central belly (battery) box: 6 cm long,
-  double belly_half_width = 0.04;     // 8 cm wide,
-  double belly_bottom = 0.006;        // 6 mm above the floor,
-  double belly_top = 0.04;            // up to 4 cm
-  double body_bottom = 0.05;          // m, bottom of the round body
-  double com_height = 0.05;           // m, centre of mass (battery low in the base)
-  double com_height_manipulator = 0.07;
-};
-constexpr MarxbotGeometry kMarxbot3d;
-// The construction manipulator's head: a box in front of the body whose outer
-// face (local +x) is the magnet. It turns about its own vertical axis.
-constexpr double kHeadDepth = 0.03, kHeadWidth = 0.05, kHeadHeight = 0.03;  // m
-constexpr double kHeadPivotX = marxbot::kBodyRadius + 0.5 * kHeadDepth;     // m from the robot's axis
-constexpr double kHeadMass = 0.15;                                         // kg
-constexpr double kHeadMaxForce = 50.0;    // N, elevation motor
-constexpr double kHeadMaxTorque = 2.0;    // N m, rotation motor
-// The magnet holds a cube's side where its ferromagnetic plate is: the lower
-// half of the side (the magnet face is kHeadHeight tall).
-constexpr double kMagnetAlignment = 0.866;
-// Sideways yield of a treel's tread: sliding speed per newton (m/s / N).
-constexpr double kTreelSideSlip = 0.005;
-
-// ---------------------------------------------------------------------------
-// Materials and geom tags. A geom's data holds (owner slot << 8) | material.
-// The treels are one material with two tags, so a contact knows its side.
-enum Material : uint8_t { kGround, kTreel, kBody, kCube, kObject, kMaterials };
-enum TreelTag : uint8_t { kLeftTreel = kTreel, kRightTreel = kMaterials };
-
-void* Tag(uint32_t owner, uint8_t tag) {
-  return reinterpret_cast<void*>((static_cast<uintptr_t>(owner) << 8) | tag);
+void* Tag(uint32_t owner, Material material, uint8_t part = 0) {
+  return reinterpret_cast<void*>((static_cast<uintptr_t>(owner) << 8) | (static_cast<uintptr_t>(part) << 3) |
+                                 material);
 }
-uint32_t OwnerOf(dGeomID g) { return static_cast<uint32_t>(reinterpret_cast<uintptr_t>(dGeomGetData(g)) >> 8); }
 uint8_t TagOf(dGeomID g) { return static_cast<uint8_t>(reinterpret_cast<uintptr_t>(dGeomGetData(g)) & 0xFF); }
-Material MaterialOf(dGeomID g) {
-  const uint8_t t = TagOf(g);
-  return t >= kMaterials ? kTreel : static_cast<Material>(t);
+Material MaterialOf(dGeomID g) { return static_cast<Material>(TagOf(g) & 7); }
+}  // namespace
+
+uint32_t Engine::OwnerOf(dGeomID g) {
+  return static_cast<uint32_t>(reinterpret_cast<uintptr_t>(dGeomGetData(g)) >> 8);
+}
+uint8_t Engine::PartOf(dGeomID g) { return TagOf(g) >> 3; }
+
+Space& Engine::entities() { return sim().space(); }
+
+// Entity origin (centre of the base) -> body origin, in the entity's frame.
+static Vec3 Up(double z) { return Vec3(0, 0, z); }
+
+dBodyID Engine::MakeBody(uint32_t s, double com_height) {
+  const Space& space = sim().space();
+  const Pose& pose = space.pose(s);
+  const Twist& twist = space.twist(s);
+  dBodyID b = dBodyCreate(world_);
+  const Vec3 arm = pose.orientation * Up(com_height);
+  PlaceBody(b, pose.position + arm, pose.orientation);
+  SetBodyVelocity(b, twist.linear + twist.angular.cross(arm), twist.angular);
+  slots_[s].body = b;
+  slots_[s].com_height = com_height;
+  return b;
 }
 
-// ---------------------------------------------------------------------------
-// Conversions.
-Vec3 ToVec(const dReal* v) { return Vec3(v[0], v[1], v[2]); }
-Quat ToQuat(const dReal* q) { return Quat(q[0], q[1], q[2], q[3]).normalized(); }
-void SetQuat(dQuaternion out, const Quat& q) {
-  out[0] = q.w();
-  out[1] = q.x();
-  out[2] = q.y();
-  out[3] = q.z();
+dSpaceID Engine::MakePartSpace(uint32_t s) {
+  slots_[s].space = dSimpleSpaceCreate(space_);
+  return slots_[s].space;
 }
-Quat BodyQuat(dBodyID b) { return ToQuat(dBodyGetQuaternion(b)); }
-Vec3 BodyPos(dBodyID b) { return ToVec(dBodyGetPosition(b)); }
-void PlaceBody(dBodyID b, const Vec3& p, const Quat& q) {
-  dBodySetPosition(b, p.x(), p.y(), p.z());
-  dQuaternion dq;
-  SetQuat(dq, q);
-  dBodySetQuaternion(b, dq);
+
+dGeomID Engine::AddGeom(uint32_t s, dGeomID g, Material m, uint8_t part) {
+  dGeomSetData(g, Tag(s, m, part));
+  slots_[s].geoms.push_back(g);
+  return g;
 }
-void SetBodyVelocity(dBodyID b, const Vec3& v, const Vec3& w) {
-  dBodySetLinearVel(b, v.x(), v.y(), v.z());
-  dBodySetAngularVel(b, w.x(), w.y(), w.z());
+
+void Engine::AddSolid(uint32_t s, Material material) {
+  const Space& space = sim().space();
+  const Geometry& g = space.geometry(s);
+  const double mass = space.mass(s) > 0 ? space.mass(s) : 1.0;
+  dBodyID b = MakeBody(s, 0.5 * g.height());
+  dMass m;
+  dGeomID geom;
+  if (g.shape == ShapeKind::kBox) {
+    dMassSetBoxTotal(&m, mass, g.size.x(), g.size.y(), g.size.z());
+    geom = dCreateBox(space_, g.size.x(), g.size.y(), g.size.z());
+  } else {
+    dMassSetCylinderTotal(&m, mass, 3, g.radius, g.height());
+    geom = dCreateCylinder(space_, g.radius, g.height());
+  }
+  dBodySetMass(b, &m);
+  AddGeom(s, geom, material);
+  dGeomSetBody(geom, b);
+  if (material == kCube) cubes_.insert(std::lower_bound(cubes_.begin(), cubes_.end(), s), s);
 }
+
+namespace {
 
 // ODE is initialised once per process; quickstep's random draws come from a
 // process-wide state (see the header comment).
@@ -128,49 +112,7 @@ void InitOde() {
   dAllocateODEDataForThread(dAllocateMaskAll);
 }
 
-// ---------------------------------------------------------------------------
-// Models.
-enum class Kind : uint8_t { kNone, kMarxbot, kBox, kCylinder, kCube };
-
-class Dynamics3dModel : public PhysicsModel {
- public:
-  explicit Dynamics3dModel(Kind kind) : kind_(kind) {}
-  Kind kind() const { return kind_; }
-
- private:
-  Kind kind_;
-};
-
-struct MarxbotModel : Dynamics3dModel {
-  MarxbotModel() : Dynamics3dModel(Kind::kMarxbot) {}
-};
-struct BoxModel : Dynamics3dModel {
-  BoxModel() : Dynamics3dModel(Kind::kBox) {}
-};
-struct CylinderModel : Dynamics3dModel {
-  CylinderModel() : Dynamics3dModel(Kind::kCylinder) {}
-};
-struct CubeModel : Dynamics3dModel {
-  CubeModel() : Dynamics3dModel(Kind::kCube) {}
-};
-
-COLONY_REGISTER_PHYSICS_MODEL(MarxbotModel, "dynamics3d:marxbot",
-                              "one body on two treels of two wheels each, whose treads move at the wheel speeds "
-                              "(torque-limited, slip); with manipulator=\"true\" a motor-driven head carrying a "
-                              "magnet",
-                              (std::vector<std::string>{"drive", "manipulator"}));
-COLONY_REGISTER_PHYSICS_MODEL(BoxModel, "dynamics3d:box", "box: a body of its mass if movable, static geometry otherwise",
-                              (std::vector<std::string>{}));
-COLONY_REGISTER_PHYSICS_MODEL(CylinderModel, "dynamics3d:cylinder",
-                              "upright cylinder: a body of its mass if movable, static geometry otherwise",
-                              (std::vector<std::string>{}));
-COLONY_REGISTER_PHYSICS_MODEL(CubeModel, "dynamics3d:cube",
-                              "construction cube: held by the manipulator's magnet; self-aligns and bonds when "
-                              "it lands on another cube within the capture tolerance",
-                              (std::vector<std::string>{}));
-
-// ---------------------------------------------------------------------------
-class Dynamics3dEngine : public PhysicsEngine {
+class Dynamics3dEngine : public Engine {
  public:
   Dynamics3dEngine() {
     InitOde();
@@ -196,28 +138,29 @@ class Dynamics3dEngine : public PhysicsEngine {
   }
 
   void Configure(const ConfigNode& node) override {
+    Params& p = params_;
     const auto g = node.GetTriple("gravity", {0, 0, -9.81});
-    gravity_ = Vec3(g[0], g[1], g[2]);
+    p.gravity = Vec3(g[0], g[1], g[2]);
     quickstep_ = node.GetChoice("stepper", {"quickstep", "worldstep"}, "quickstep") == "quickstep";
     iterations_ = static_cast<int>(node.GetInt("iterations", 20, 1, 1000));
     substeps_ = static_cast<int>(node.GetInt("substeps", 10, 1, 1000));
-    erp_ = node.GetDouble("erp", 0.2, Range::Between(0, 1));
-    cfm_ = node.GetDouble("cfm", 1e-5, Range::NonNegative());
-    friction_[kGround] = node.GetDouble("ground_friction", 1.0, Range::NonNegative());
-    friction_[kTreel] = node.GetDouble("treel_friction", 0.6, Range::NonNegative());
-    friction_[kBody] = node.GetDouble("body_friction", 0.3, Range::NonNegative());
-    friction_[kCube] = node.GetDouble("cube_friction", 0.5, Range::NonNegative());
-    friction_[kObject] = node.GetDouble("object_friction", 0.5, Range::NonNegative());
-    treel_max_torque_ = node.GetDouble("treel_max_torque", 0.22, Range::Positive());
-    magnet_max_force_ = node.GetDouble("magnet_max_force", 2.0, Range::Positive());
-    magnet_reach_ = node.GetDouble("magnet_reach", 0.01, Range::NonNegative());
-    cube_capture_ = node.GetDouble("cube_capture", 0.02, Range::NonNegative());
-    cube_capture_angle_ = node.GetDouble("cube_capture_angle", 0.35, Range::Between(0, M_PI / 4));
-    cube_bond_force_ = node.GetDouble("cube_bond_force", 2.0, Range::Positive());
+    p.erp = node.GetDouble("erp", 0.2, Range::Between(0, 1));
+    p.cfm = node.GetDouble("cfm", 1e-5, Range::NonNegative());
+    p.friction[kGround] = node.GetDouble("ground_friction", 1.0, Range::NonNegative());
+    p.friction[kTread] = node.GetDouble("treel_friction", 0.6, Range::NonNegative());
+    p.friction[kBody] = node.GetDouble("body_friction", 0.3, Range::NonNegative());
+    p.friction[kCube] = node.GetDouble("cube_friction", 0.5, Range::NonNegative());
+    p.friction[kObject] = node.GetDouble("object_friction", 0.5, Range::NonNegative());
+    p.treel_max_torque = node.GetDouble("treel_max_torque", 0.22, Range::Positive());
+    p.magnet_max_force = node.GetDouble("magnet_max_force", 2.0, Range::Positive());
+    p.magnet_reach = node.GetDouble("magnet_reach", 0.01, Range::NonNegative());
+    p.cube_capture = node.GetDouble("cube_capture", 0.02, Range::NonNegative());
+    p.cube_capture_angle = node.GetDouble("cube_capture_angle", 0.35, Range::Between(0, M_PI / 4));
+    p.cube_bond_force = node.GetDouble("cube_bond_force", 2.0, Range::Positive());
 
-    dWorldSetGravity(world_, gravity_.x(), gravity_.y(), gravity_.z());
-    dWorldSetERP(world_, erp_);
-    dWorldSetCFM(world_, cfm_);
+    dWorldSetGravity(world_, p.gravity.x(), p.gravity.y(), p.gravity.z());
+    dWorldSetERP(world_, p.erp);
+    dWorldSetCFM(world_, p.cfm);
     dWorldSetQuickStepNumIterations(world_, iterations_);
     dWorldSetContactSurfaceLayer(world_, 0.0005);
     dWorldSetContactMaxCorrectingVel(world_, 1.0);
@@ -225,50 +168,40 @@ class Dynamics3dEngine : public PhysicsEngine {
 
   bool Is3D() const override { return true; }
 
-  void AddEntity(EntityHandle entity, PhysicsModel& model) override {
+  void AddEntity(EntityHandle entity, PhysicsModel& physics_model) override {
     InitOde();
-    const Kind kind = dynamic_cast<const Dynamics3dModel&>(model).kind();
+    auto& model = dynamic_cast<Dynamics3dModel&>(physics_model);
     const Space& space = sim().space();
     const uint32_t s = entity.index;
     if (slots_.size() <= s) slots_.resize(s + 1);
     if (touched_.size() <= s) touched_.resize(s + 1, 0);
     Slot& slot = slots_[s];
     slot = Slot{};
-    slot.kind = kind;
+    slot.model = &model;
+    if (std::find(models_.begin(), models_.end(), &model) == models_.end()) models_.push_back(&model);
     if (!space.movable(s)) {
-      AddStatic(s, kind);
+      AddStatic(s, model.fixed_material());
       return;
     }
-    if (kind == Kind::kMarxbot && space.drive(s)) {
-      AddRobot(s);
-    } else {
-      AddObject(s, kind);
-    }
+    model.Add(*this, s);
+    movables_.insert(std::lower_bound(movables_.begin(), movables_.end(), s), s);
   }
 
   void RemoveEntity(EntityHandle entity) override {
     const uint32_t s = entity.index;
-    if (s >= slots_.size() || slots_[s].kind == Kind::kNone) return;
+    if (s >= slots_.size() || !slots_[s].model) return;
     Slot& slot = slots_[s];
     // Joints first: a body destroyed before its joints would leave them
     // attached to the world.
     for (size_t k = bonds_.size(); k-- > 0;) {
       if (bonds_[k].upper == s || bonds_[k].lower == s) Unbond(k);
     }
-    if (slot.held_by != kNone) Release(*RobotAt(slot.held_by));
-    if (slot.robot) {
-      Robot& r = *slot.robot;
-      if (r.magnet_joint) Release(r);
-      if (r.head) {
-        dJointDestroy(r.piston);
-        dBodyDestroy(r.head);
-      }
-      robots_.erase(std::find(robots_.begin(), robots_.end(), slot.robot.get()));
-    }
+    if (slot.held_by != kNone) slots_[slot.held_by].model->Release(*this, slot.held_by);
+    if (slot.body) slot.model->Remove(*this, s);
     for (dGeomID g : slot.geoms) dGeomDestroy(g);
     if (slot.space) dSpaceDestroy(slot.space);
     if (slot.body) dBodyDestroy(slot.body);
-    for (auto* list : {&objects_, &cubes_}) {
+    for (auto* list : {&movables_, &cubes_}) {
       auto it = std::find(list->begin(), list->end(), s);
       if (it != list->end()) list->erase(it);
     }
@@ -280,21 +213,15 @@ class Dynamics3dEngine : public PhysicsEngine {
     Space& space = sim().space();
     if (!floor_built_) BuildFloor(space);
     const double h = dt / substeps_;
-    for (Robot* r : robots_) {
-      touched_[r->slot] = 0;
-      SetTreads(space, *r);
-      if (r->head) UpdateMagnet(space, *r, dt);
-    }
-    for (uint32_t s : objects_) touched_[s] = 0;
+    for (uint32_t s : movables_) touched_[s] = 0;
+    for (Dynamics3dModel* m : models_) m->BeforeStep(*this, dt);
     for (int k = 0; k < substeps_; ++k) {
-      for (Robot* r : robots_) {
-        if (r->head) DriveHead(space, *r, h);
-      }
+      for (Dynamics3dModel* m : models_) m->BeforeSubstep(*this, h);
       touches_.clear();
       dSpaceCollide(space_, this, &Dynamics3dEngine::NearCallback);
       dSpaceCollide2(reinterpret_cast<dGeomID>(space_), reinterpret_cast<dGeomID>(static_), this,
                      &Dynamics3dEngine::NearCallback);
-      if (cube_capture_ > 0) CaptureCubes();
+      if (params_.cube_capture > 0) CaptureCubes();
       if (quickstep_) {
         std::lock_guard lock(QuickStepMutex());
         dRandSetSeed(random_seed_);
@@ -304,198 +231,38 @@ class Dynamics3dEngine : public PhysicsEngine {
         dWorldStep(world_, h);
       }
       dJointGroupEmpty(contacts_);
-      CheckBreaks();
+      // Magnets and bonds let go when pulled harder than their limit.
+      for (Dynamics3dModel* m : models_) m->AfterSubstep(*this);
+      BreakBonds();
     }
     // Whatever fell off the floor's edge stops 1 m below it.
     const double bottom = space.arena_min().z() - 1.0;
-    for (Robot* r : robots_) StopIfFallen(slots_[r->slot].body, r->head, bottom);
-    for (uint32_t s : objects_) StopIfFallen(slots_[s].body, nullptr, bottom);
+    for (uint32_t s : movables_) StopIfFallen(slots_[s], bottom);
     // Stacked cubes touch, though their joint keeps ODE from making contacts.
     for (const Bond& b : bonds_) touched_[b.upper] = touched_[b.lower] = 1;
-    for (Robot* r : robots_) WriteRobot(space, *r, dt);
-    for (uint32_t s : objects_) WriteBody(space, s);
+    for (uint32_t s : movables_) WriteBody(space, s);
+    for (Dynamics3dModel* m : models_) m->AfterStep(*this, dt);
   }
 
  private:
-  struct Robot {
-    uint32_t slot = kNone;
-    double wheel_base = 0.14;
-    double tread[2] = {0, 0};  // left, right treel tread speed this tick (m/s)
-    double pull_limit = 1;     // treel_max_torque / wheel radius / (half the robot's weight)
-    // Manipulator (head == nullptr: none).
-    dBodyID head = nullptr;
-    dJointID piston = nullptr;
-    double elevation0 = 0, rotation0 = 0;  // joint positions when the joints were made
-    dJointID magnet_joint = nullptr;
-    dJointFeedback magnet_feedback{};
-    uint32_t held = kNone;
-  };
-  struct Slot {
-    Kind kind = Kind::kNone;
-    dBodyID body = nullptr;
-    dSpaceID space = nullptr;  // robots: the space of their parts
-    std::vector<dGeomID> geoms;
-    double com_height = 0;     // body origin above the entity's origin, in its frame (m)
-    std::unique_ptr<Robot> robot;  // also listed in robots_
-    uint32_t held_by = kNone;  // cubes: the robot whose magnet holds it
-  };
   struct Bond {
     uint32_t upper, lower;
     dJointID joint;
     std::unique_ptr<dJointFeedback> feedback;
   };
 
-  Robot* RobotAt(uint32_t s) { return slots_[s].robot.get(); }
-
-  dGeomID AddGeom(Slot& slot, dGeomID g, uint32_t owner, uint8_t tag) {
-    dGeomSetData(g, Tag(owner, tag));
-    slot.geoms.push_back(g);
-    return g;
-  }
-
-  // Entity origin (centre of the base) -> body origin, in the entity's frame.
-  static Vec3 Up(double z) { return Vec3(0, 0, z); }
-
-  void AddStatic(uint32_t s, Kind kind) {
+  void AddStatic(uint32_t s, Material material) {
     const Space& space = sim().space();
-    Slot& slot = slots_[s];
     const Geometry& g = space.geometry(s);
     const Pose& pose = space.pose(s);
     dGeomID geom = g.shape == ShapeKind::kBox ? dCreateBox(static_, g.size.x(), g.size.y(), g.size.z())
                                               : dCreateCylinder(static_, g.radius, g.height());
-    AddGeom(slot, geom, s, kind == Kind::kCube ? kCube : kObject);
+    AddGeom(s, geom, material);
     const Vec3 c = pose.position + pose.orientation * Up(0.5 * g.height());
     dGeomSetPosition(geom, c.x(), c.y(), c.z());
     dQuaternion q;
     SetQuat(q, pose.orientation);
     dGeomSetQuaternion(geom, q);
-  }
-
-  // Creates a body at the entity's pose and velocity, its origin com_height
-  // above the entity's origin.
-  dBodyID MakeBody(uint32_t s, double com_height) {
-    const Space& space = sim().space();
-    const Pose& pose = space.pose(s);
-    const Twist& twist = space.twist(s);
-    dBodyID b = dBodyCreate(world_);
-    const Vec3 arm = pose.orientation * Up(com_height);
-    PlaceBody(b, pose.position + arm, pose.orientation);
-    SetBodyVelocity(b, twist.linear + twist.angular.cross(arm), twist.angular);
-    slots_[s].body = b;
-    slots_[s].com_height = com_height;
-    return b;
-  }
-
-  void AddObject(uint32_t s, Kind kind) {
-    const Space& space = sim().space();
-    Slot& slot = slots_[s];
-    const Geometry& g = space.geometry(s);
-    const double mass = space.mass(s) > 0 ? space.mass(s) : 1.0;
-    dBodyID b = MakeBody(s, 0.5 * g.height());
-    dMass m;
-    dGeomID geom;
-    if (g.shape == ShapeKind::kBox) {
-      dMassSetBoxTotal(&m, mass, g.size.x(), g.size.y(), g.size.z());
-      geom = dCreateBox(space_, g.size.x(), g.size.y(), g.size.z());
-    } else {
-      dMassSetCylinderTotal(&m, mass, 3, g.radius, g.height());
-      geom = dCreateCylinder(space_, g.radius, g.height());
-    }
-    dBodySetMass(b, &m);
-    AddGeom(slot, geom, s, kind == Kind::kCube ? kCube : kObject);
-    dGeomSetBody(geom, b);
-    InsertSorted(objects_, s);
-    if (kind == Kind::kCube) InsertSorted(cubes_, s);
-  }
-
-  void AddRobot(uint32_t s) {
-    using namespace marxbot;
-    const MarxbotGeometry& geo = kMarxbot3d;
-    Space& space = sim().space();
-    Slot& slot = slots_[s];
-    const Geometry& g = space.geometry(s);
-    const DriveState& drive = *space.drive(s);
-    const ManipulatorState* manip = space.Get<ManipulatorState>(s);
-    const Pose& pose = space.pose(s);
-    const Twist& twist = space.twist(s);
-    const double total = space.mass(s) > 0 ? space.mass(s) : kMass;
-    const double com = manip ? geo.com_height_manipulator : geo.com_height;
-    const double height = g.height();
-    const double radius = g.radius;
-
-    slot.robot = std::make_unique<Robot>();
-    Robot* r = slot.robot.get();
-    r->slot = s;
-    r->wheel_base = drive.wheel_base > 0 ? drive.wheel_base : kWheelBase;
-    const double wheel_radius = drive.wheel_radius > 0 ? drive.wheel_radius : kWheelRadius;
-    r->pull_limit = treel_max_torque_ / wheel_radius / (0.5 * total * std::max(gravity_.norm(), 1e-9));
-    InsertSorted(robots_, r);
-
-    // Chassis: the round body, the belly and the treels' wheels, one body.
-    const double chassis_mass = total - (manip ? kHeadMass : 0.0);
-    dBodyID chassis = MakeBody(s, com);
-    dMass m;
-    dMassSetCylinderTotal(&m, chassis_mass, 3, radius, height);
-    dBodySetMass(chassis, &m);
-    slot.space = dSimpleSpaceCreate(space_);
-    dGeomID body = AddGeom(slot, dCreateCylinder(slot.space, radius, height - geo.body_bottom), s, kBody);
-    dGeomSetBody(body, chassis);
-    dGeomSetOffsetPosition(body, 0, 0, 0.5 * (height + geo.body_bottom) - com);
-    dGeomID belly = AddGeom(slot,
-                            dCreateBox(slot.space, 2 * geo.belly_half_length, 2 * geo.belly_half_width,
-                                       geo.belly_top - geo.belly_bottom),
-                            s, kBody);
-    dGeomSetBody(belly, chassis);
-    dGeomSetOffsetPosition(belly, 0, 0, 0.5 * (geo.belly_top + geo.belly_bottom) - com);
-    // Treels: two wheels each (front and rear), whose tread moves at the
-    // treel's speed.
-    for (int k = 0; k < 4; ++k) {
-      const int side = k / 2;  // 0 left (+y), 1 right (-y)
-      dGeomID w = AddGeom(slot, dCreateSphere(slot.space, geo.treel_wheel_radius), s,
-                          side == 0 ? kLeftTreel : kRightTreel);
-      dGeomSetBody(w, chassis);
-      dGeomSetOffsetPosition(w, k % 2 == 0 ? geo.treel_half_span : -geo.treel_half_span,
-                             side == 0 ? geo.treel_y : -geo.treel_y, geo.treel_wheel_radius - com);
-    }
-    if (!manip) return;
-    const Quat& q = pose.orientation;
-    // The manipulator: the head on a vertical piston joint through its centre
-    // (slides up and down, turns about it), both motions motor-driven.
-    const Vec3 up = q * Vec3::UnitZ();
-    r->elevation0 = std::clamp(manip->elevation, manip->min_elevation, manip->max_elevation);
-    r->rotation0 = manip->rotation;
-    const Vec3 arm = q * Vec3(kHeadPivotX, 0, r->elevation0);
-    const Vec3 centre = pose.position + arm;
-    r->head = dBodyCreate(world_);
-    PlaceBody(r->head, centre, q * FromYaw(r->rotation0));
-    SetBodyVelocity(r->head, twist.linear + twist.angular.cross(arm), twist.angular);
-    dMass hm;
-    // Inertia of a 10 cm cube of the head's mass: ODE's iterative solver
-    // copes badly with a tiny body jointed to a large one.
-    dMassSetBoxTotal(&hm, kHeadMass, 0.1, 0.1, 0.1);
-    dBodySetMass(r->head, &hm);
-    dGeomID head = AddGeom(slot, dCreateBox(slot.space, kHeadDepth, kHeadWidth, kHeadHeight), s, kBody);
-    dGeomSetBody(head, r->head);
-    r->piston = dJointCreatePiston(world_, nullptr);
-    dJointAttach(r->piston, r->head, chassis);
-    dJointSetPistonAnchor(r->piston, centre.x(), centre.y(), centre.z());
-    dJointSetPistonAxis(r->piston, up.x(), up.y(), up.z());
-    dJointSetPistonParam(r->piston, dParamFMax, kHeadMaxForce);
-    dJointSetPistonParam(r->piston, dParamFMax2, kHeadMaxTorque);
-  }
-
-  template <class T>
-  static void InsertSorted(std::vector<T>& list, T item) {
-    auto key = [](const T& x) {
-      if constexpr (std::is_pointer_v<T>) {
-        return x->slot;
-      } else {
-        return x;
-      }
-    };
-    auto it = std::lower_bound(list.begin(), list.end(), item,
-                               [&](const T& a, const T& b) { return key(a) < key(b); });
-    list.insert(it, item);
   }
 
   // The floor: a plane, or boxes around the ditches with the ditch bottoms
@@ -573,64 +340,29 @@ class Dynamics3dEngine : public PhysicsEngine {
     dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
     if (!ba && !bb) return;
     const uint32_t oa = OwnerOf(a), ob = OwnerOf(b);
-    if (oa == ob && oa != kNone) return;  // parts of one robot
+    if (oa == ob && oa != kNone) return;  // parts of one entity
     if (ba && bb && dAreConnectedExcluding(ba, bb, dJointTypeContact)) return;
-    // A held cube does not collide with the robot holding it.
+    // A held thing does not collide with what holds it.
     if (oa != kNone && ob != kNone && (slots_[oa].held_by == ob || slots_[ob].held_by == oa)) return;
     constexpr int kMax = 8;
     dContact contact[kMax];
     const int n = dCollide(a, b, kMax, &contact[0].geom, sizeof(dContact));
     if (n == 0) return;
     const Material ma = MaterialOf(a), mb = MaterialOf(b);
-    const double mu = std::min(friction_[ma], friction_[mb]);
-    // A treel touching something other than another treel drives it.
-    dGeomID wheel = nullptr;
-    if (ma == kTreel && mb != kTreel) wheel = a;
-    if (mb == kTreel && ma != kTreel) wheel = b;
-    double tread = 0, pull = mu;
-    Vec3 axle = Vec3::Zero(), hub = Vec3::Zero();
-    if (wheel) {
-      const Robot& r = *slots_[OwnerOf(wheel)].robot;
-      tread = r.tread[TagOf(wheel) == kRightTreel ? 1 : 0];
-      const dReal* R = dBodyGetRotation(dGeomGetBody(wheel));
-      axle = Vec3(R[1], R[5], R[9]);
-      hub = ToVec(dGeomGetPosition(wheel));
-      // The motor's torque bounds the pull along the tread: with the treel's
-      // share of the robot's weight, F <= min(mu N, torque / wheel radius).
-      pull = std::min(mu, r.pull_limit);
-    }
+    const double mu = std::min(params_.friction[ma], params_.friction[mb]);
     for (int i = 0; i < n; ++i) {
       dContact& c = contact[i];
       c.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
       c.surface.mu = mu;
-      c.surface.soft_erp = erp_;
-      c.surface.soft_cfm = cfm_;
-      if (!wheel) continue;
-      const Vec3 normal = ToVec(c.geom.normal);
-      Vec3 dir = axle.cross(normal);
-      if (dir.squaredNorm() < 1e-12) continue;  // touching the wheel's side
-      dir.normalize();
-      // Velocity of the tread at the contact, relative to the chassis: the
-      // wheel's rim turning about its axle at the tread's speed.
-      const Vec3 arm = (ToVec(c.geom.pos) - hub).normalized();
-      const double surface = tread * axle.cross(arm).dot(dir);
-      // Sideways the tread yields a little under load (force-dependent slip):
-      // with Coulomb friction alone, which of the front and rear wheels
-      // slides when the robot turns would be arbitrary (the robot would turn
-      // about its front or rear axle); this makes it turn about its middle,
-      // as differential drive kinematics have it.
-      c.surface.mode |= dContactFDir1 | dContactMu2 | dContactMotion1 | dContactSlip2;
-      c.surface.mu = pull;
-      c.surface.mu2 = mu;
-      c.surface.slip2 = kTreelSideSlip;
-      c.fdir1[0] = dir.x();
-      c.fdir1[1] = dir.y();
-      c.fdir1[2] = dir.z();
-      // The constraint sets (velocity of body 1 - velocity of body 2) along
-      // fdir1; a tread that does not slip moves the chassis against its own
-      // motion.
-      c.surface.motion1 = wheel == a ? -surface : surface;
+      c.surface.soft_erp = params_.erp;
+      c.surface.soft_cfm = params_.cfm;
     }
+    // A moving surface touching something other than another moving
+    // surface: its model sets the contacts' surface motion.
+    dGeomID surface = nullptr;
+    if (ma == kTread && mb != kTread) surface = a;
+    if (mb == kTread && ma != kTread) surface = b;
+    if (surface) slots_[OwnerOf(surface)].model->ModifyContacts(*this, surface, surface == a, mu, contact, n);
     for (int i = 0; i < n; ++i) {
       dJointID j = dJointCreateContact(world_, contacts_, &contact[i]);
       dJointAttach(j, ba, bb);
@@ -641,105 +373,6 @@ class Dynamics3dEngine : public PhysicsEngine {
       if (ob != kNone) touched_[ob] = 1;
     }
     if (ma == kCube && mb == kCube && ba && bb) touches_.emplace_back(std::min(oa, ob), std::max(oa, ob));
-  }
-
-  // -------------------------------------------------------------------------
-  // Treels.
-  // The commanded wheel speeds ask for forwards speed (l + r) / 2 and turn
-  // rate (r - l) / wheel_base; the treads at y = +-treel_y give exactly that.
-  void SetTreads(const Space& space, Robot& r) {
-    const DriveState& d = *space.drive(r.slot);
-    const double left = std::isfinite(d.left) ? d.left : 0.0;
-    const double right = std::isfinite(d.right) ? d.right : 0.0;
-    const double v = 0.5 * (left + right), w = (right - left) / r.wheel_base;
-    r.tread[0] = v - w * kMarxbot3d.treel_y;
-    r.tread[1] = v + w * kMarxbot3d.treel_y;
-  }
-
-  // -------------------------------------------------------------------------
-  // Manipulator.
-  double Elevation(const Robot& r) const { return r.elevation0 + dJointGetPistonPosition(r.piston); }
-  double Rotation(const Robot& r) const { return WrapAngle(r.rotation0 + dJointGetPistonAngle(r.piston)); }
-
-  void DriveHead(const Space& space, Robot& r, double h) {
-    const ManipulatorState& m = *space.Get<ManipulatorState>(r.slot);
-    const double lo = std::min(m.min_elevation, m.max_elevation), hi = std::max(m.min_elevation, m.max_elevation);
-    const double target = std::clamp(std::isfinite(m.target_elevation) ? m.target_elevation : lo, lo, hi);
-    const double e = Elevation(r);
-    dJointSetPistonParam(r.piston, dParamVel, std::clamp((target - e) / h, -m.elevation_speed, m.elevation_speed));
-    // Stops 1 cm beyond the range, so the motor never pushes against them (at
-    // a stop ODE would add the motor's full force explicitly).
-    dJointSetPistonParam(r.piston, dParamLoStop, lo - 0.01 - r.elevation0);
-    dJointSetPistonParam(r.piston, dParamHiStop, hi + 0.01 - r.elevation0);
-    const double aim = std::isfinite(m.target_rotation) ? m.target_rotation : Rotation(r);
-    const double error = WrapAngle(aim - Rotation(r));
-    dJointSetPistonParam(r.piston, dParamVel2, std::clamp(error / h, -m.rotation_speed, m.rotation_speed));
-  }
-
-  // Switches the magnet over, lets go when it is no longer fully engaged,
-  // and holds what it touches when it is.
-  void UpdateMagnet(Space& space, Robot& r, double dt) {
-    ManipulatorState& m = *space.Get<ManipulatorState>(r.slot);
-    const double step = m.switch_time > 0 ? dt / m.switch_time : 1.0;
-    m.magnet = std::clamp(m.magnet + (m.want_magnet ? step : -step), 0.0, 1.0);
-    // Summing dt / switch_time falls short of 1 (or 0) by a rounding error:
-    // snap, so the switch takes switch_time, not a tick more.
-    if (m.magnet > 1.0 - 1e-9) m.magnet = 1.0;
-    if (m.magnet < 1e-9) m.magnet = 0.0;
-    if (m.magnet < 1.0) {
-      if (r.magnet_joint) Release(r);
-      return;
-    }
-    if (!r.magnet_joint) Grab(space, r);
-  }
-
-  // The magnet face: centre and outward normal, world frame.
-  void MagnetFace(const Robot& r, Vec3& centre, Vec3& normal) const {
-    const Quat q = BodyQuat(r.head);
-    normal = q * Vec3::UnitX();
-    centre = BodyPos(r.head) + 0.5 * kHeadDepth * normal;
-  }
-
-  void Grab(const Space& space, Robot& r) {
-    Vec3 centre, normal;
-    MagnetFace(r, centre, normal);
-    uint32_t best = kNone;
-    double best_gap = 0;
-    for (uint32_t c : cubes_) {
-      const Slot& cube = slots_[c];
-      if (cube.held_by != kNone || !cube.body) continue;
-      const double side = space.geometry(c).size.x();
-      const Quat qc = BodyQuat(cube.body);
-      const Vec3 p = qc.conjugate() * (centre - BodyPos(cube.body));  // cube frame, from its centre
-      const Vec3 n = qc.conjugate() * normal;
-      // The side face the magnet is in front of.
-      const int axis = std::abs(p.x()) >= std::abs(p.y()) ? 0 : 1;
-      const double sign = p[axis] >= 0 ? 1.0 : -1.0;
-      const double gap = sign * p[axis] - 0.5 * side;
-      if (gap < -0.005 || gap > magnet_reach_) continue;
-      if (-sign * n[axis] < kMagnetAlignment) continue;        // faces about parallel, facing each other
-      if (std::abs(p[1 - axis]) > 0.5 * side) continue;        // over the face
-      // Overlapping the plate: the lower half of the side.
-      if (p.z() - 0.5 * kHeadHeight > 0 || p.z() + 0.5 * kHeadHeight < -0.5 * side) continue;
-      if (best == kNone || gap < best_gap) {
-        best = c;
-        best_gap = gap;
-      }
-    }
-    if (best == kNone) return;
-    r.magnet_joint = dJointCreateFixed(world_, nullptr);
-    dJointAttach(r.magnet_joint, r.head, slots_[best].body);
-    dJointSetFixed(r.magnet_joint);
-    dJointSetFeedback(r.magnet_joint, &r.magnet_feedback);
-    r.held = best;
-    slots_[best].held_by = r.slot;
-  }
-
-  void Release(Robot& r) {
-    if (r.magnet_joint) dJointDestroy(r.magnet_joint);
-    r.magnet_joint = nullptr;
-    if (r.held != kNone) slots_[r.held].held_by = kNone;
-    r.held = kNone;
   }
 
   // -------------------------------------------------------------------------
@@ -765,11 +398,11 @@ class Dynamics3dEngine : public PhysicsEngine {
       const double rest = 0.5 * (space.geometry(lo).size.z() + space.geometry(up).size.z());
       if (std::abs(d.z() - rest) > 0.01) continue;                        // not on its top
       const Quat rel = ql.conjugate() * BodyQuat(bu);
-      if ((rel * Vec3::UnitZ()).z() < std::cos(cube_capture_angle_)) continue;  // tilted
-      if (std::abs(d.x()) > cube_capture_ || std::abs(d.y()) > cube_capture_) continue;
+      if ((rel * Vec3::UnitZ()).z() < std::cos(params_.cube_capture_angle)) continue;  // tilted
+      if (std::abs(d.x()) > params_.cube_capture || std::abs(d.y()) > params_.cube_capture) continue;
       const Vec3 xr = rel * Vec3::UnitX();
       const double quarter = std::round(std::atan2(xr.y(), xr.x()) / (M_PI / 2)) * (M_PI / 2);
-      if (std::abs(WrapAngle(std::atan2(xr.y(), xr.x()) - quarter)) > cube_capture_angle_) continue;
+      if (std::abs(WrapAngle(std::atan2(xr.y(), xr.x()) - quarter)) > params_.cube_capture_angle) continue;
       MakeBond(up, lo, quarter, rest);
     }
   }
@@ -803,23 +436,19 @@ class Dynamics3dEngine : public PhysicsEngine {
     bonds_.erase(bonds_.begin() + static_cast<std::ptrdiff_t>(k));
   }
 
-  // Magnets and bonds let go when pulled harder than their limit.
-  void CheckBreaks() {
-    for (Robot* r : robots_) {
-      if (r->magnet_joint && ToVec(r->magnet_feedback.f2).norm() > magnet_max_force_) Release(*r);
-    }
+  void BreakBonds() {
     for (size_t k = bonds_.size(); k-- > 0;) {
-      if (ToVec(bonds_[k].feedback->f1).norm() > cube_bond_force_) Unbond(k);
+      if (ToVec(bonds_[k].feedback->f1).norm() > params_.cube_bond_force) Unbond(k);
     }
   }
 
-  static void StopIfFallen(dBodyID body, dBodyID head, double bottom) {
-    if (!dBodyIsEnabled(body) || dBodyGetPosition(body)[2] > bottom) return;
-    dBodyDisable(body);
-    SetBodyVelocity(body, Vec3::Zero(), Vec3::Zero());
-    if (head) {
-      dBodyDisable(head);
-      SetBodyVelocity(head, Vec3::Zero(), Vec3::Zero());
+  static void StopIfFallen(const Slot& slot, double bottom) {
+    if (!dBodyIsEnabled(slot.body) || dBodyGetPosition(slot.body)[2] > bottom) return;
+    dBodyDisable(slot.body);
+    SetBodyVelocity(slot.body, Vec3::Zero(), Vec3::Zero());
+    for (dBodyID part : slot.parts) {
+      dBodyDisable(part);
+      SetBodyVelocity(part, Vec3::Zero(), Vec3::Zero());
     }
   }
 
@@ -840,41 +469,16 @@ class Dynamics3dEngine : public PhysicsEngine {
     space.set_in_contact(s, touched_[s]);
   }
 
-  void WriteRobot(Space& space, Robot& r, double dt) {
-    WriteBody(space, r.slot);
-    // The motors hold the treads at their speed (slip happens between tread
-    // and ground), so the encoders count the commanded wheel speeds.
-    DriveState& d = *space.drive(r.slot);
-    d.travelled_left = (std::isfinite(d.left) ? d.left : 0.0) * dt;
-    d.travelled_right = (std::isfinite(d.right) ? d.right : 0.0) * dt;
-    if (!r.head) return;
-    ManipulatorState& m = *space.Get<ManipulatorState>(r.slot);
-    m.elevation = Elevation(r);
-    m.rotation = Rotation(r);
-    m.held = r.held;
-  }
-
-  dWorldID world_ = nullptr;
-  dSpaceID space_ = nullptr, static_ = nullptr;
   dJointGroupID contacts_ = nullptr;
   bool floor_built_ = false;
   unsigned long random_seed_ = 0;
-
-  std::vector<Slot> slots_;             // per space slot
-  std::vector<uint8_t> touched_;        // per space slot: a contact this tick
-  std::vector<Robot*> robots_;          // in slot order
-  std::vector<uint32_t> objects_;       // movable non-robot slots, in order
-  std::vector<uint32_t> cubes_;         // movable cubes, in order
-  std::vector<std::pair<uint32_t, uint32_t>> touches_;  // cube pairs in contact this sub-step
-  std::vector<Bond> bonds_;
-
-  Vec3 gravity_ = Vec3(0, 0, -9.81);
   bool quickstep_ = true;
   int iterations_ = 20, substeps_ = 10;
-  double erp_ = 0.2, cfm_ = 1e-5;
-  std::array<double, kMaterials> friction_ = {1.0, 0.6, 0.3, 0.5, 0.5};
-  double treel_max_torque_ = 0.22, magnet_max_force_ = 2.0, magnet_reach_ = 0.01;
-  double cube_capture_ = 0.02, cube_capture_angle_ = 0.35, cube_bond_force_ = 2.0;
+
+  std::vector<Dynamics3dModel*> models_;  // in the order their first entity came
+  std::vector<uint8_t> touched_;          // per space slot: a contact this tick
+  std::vector<std::pair<uint32_t, uint32_t>> touches_;  // cube pairs in contact this sub-step
+  std::vector<Bond> bonds_;
 };
 
 COLONY_REGISTER_ENGINE(
@@ -907,4 +511,5 @@ COLONY_REGISTER_ENGINE(
     }));
 
 }  // namespace
+}  // namespace dynamics3d
 }  // namespace colony

@@ -11,6 +11,14 @@ inline constexpr double kMaxSpeed = 0.30;         // m/s
 inline constexpr double kMass = 1.8;              // kg (for dynamics engines)
 inline constexpr double kHeightWithManipulator = 0.29;  // m (seed 004, 3.3)
 inline constexpr double kManipulatorMass = 0.4;   // kg (no figure in the sources; our choice)
+// The construction manipulator's head: a box in front of the body, turning
+// about its own vertical axis, whose outer face (+x at rotation 0) is the
+// magnet and whose opposite face carries the 6 IR sensors. Its mass is part
+// of kManipulatorMass (the rest, the piston and motors, rides in the body).
+inline constexpr double kHeadDepth = 0.03;        // m, along the head's x axis
+inline constexpr double kHeadWidth = 0.05;        // m
+inline constexpr double kHeadHeight = 0.03;       // m, also the magnet face's height
+inline constexpr double kHeadMass = 0.15;         // kg
 
 inline constexpr int kProximityCount = 24;        // 15 degrees apart
 inline constexpr double kProximityElevation = 0.055;  // m above the floor ("about 6 cm": below a 6 cm cube's top)
