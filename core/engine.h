@@ -20,6 +20,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "core/config.h"
 #include "core/region.h"
@@ -39,6 +40,18 @@ class Simulation;
 class PhysicsModel {
  public:
   virtual ~PhysicsModel() = default;
+  // Anchors: named frames on an entity's moving parts (a manipulator's
+  // head, a gripper, a camera mount), where the engine put them. Sets `pose`
+  // (world frame) to anchor `name` of entity `slot`, one of this model's
+  // entities in its engine, and returns true; false if the model has no such
+  // anchor (`space`: the entity's). A model computes an anchor when a device asks (Simulation::
+  // Anchor), from its bodies' poses after the last step, so an anchor nobody
+  // reads costs nothing. Called from the devices' parallel chunks: it must
+  // only read.
+  virtual bool Anchor(const Space& space, uint32_t slot, std::string_view name, Pose& pose) const {
+    (void)space, (void)slot, (void)name, (void)pose;
+    return false;
+  }
 };
 
 class PhysicsEngine : public NamedSimulationBound {

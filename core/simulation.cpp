@@ -181,6 +181,14 @@ const DeviceMounts& Simulation::MountsOf(EntityHandle entity) const {
   return entity_types_[space_.type(entity.index)].first->mounts();
 }
 
+bool Simulation::Anchor(EntityHandle entity, std::string_view name, Pose& pose) const {
+  if (!space_.IsAlive(entity) || engine_of_[entity.index] < 0) return false;
+  const uint16_t type = space_.type(entity.index);
+  if (type >= models_.size()) return false;
+  const PhysicsModel* model = models_[type][engine_of_[entity.index]];
+  return model && model->Anchor(space_, entity.index, name, pose);
+}
+
 PhysicsEngine* Simulation::EngineOf(EntityHandle entity) const {
   if (!space_.IsAlive(entity) || engine_of_[entity.index] < 0) return nullptr;
   return engines_[engine_of_[entity.index]].get();

@@ -133,6 +133,11 @@ class Simulation {
 
   // Per-engine ownership of an entity (for tests and tools).
   PhysicsEngine* EngineOf(EntityHandle entity) const;
+  // Sets `pose` to anchor `name` of `entity` (a named frame on one of its
+  // moving parts, world frame, as its engine's model put it after the last
+  // step: PhysicsModel::Anchor) and returns true; false if the entity's
+  // model has no such anchor. Devices call it from their parallel chunks.
+  bool Anchor(EntityHandle entity, std::string_view name, Pose& pose) const;
   const std::vector<std::unique_ptr<PhysicsEngine>>& engines() const { return engines_; }
 
   // The medium of kind `label` (e.g. "range_and_bearing") a device element

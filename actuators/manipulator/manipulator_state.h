@@ -14,6 +14,9 @@ namespace colony {
 
 struct ManipulatorState {
   static constexpr const char* kComponentName = "manipulator";
+  // The anchor (PhysicsModel::Anchor) every model that simulates the
+  // manipulator gives: the head's centre, its x axis out of the magnet face.
+  static constexpr const char* kHeadAnchor = "manipulator_head";
   // Commands.
   double target_elevation = 0;  // height of the magnet's centre above the floor under the robot (m)
   double target_rotation = 0;   // head rotation: 0 = magnet side facing the robot's front (rad, ccw)

@@ -279,6 +279,29 @@ TEST(Dynamics3d, HeadFollowsItsTargetsAtItsSpeeds) {
   EXPECT_LT(PositionOf(*sim, "r").head<2>().norm(), 0.003) << "the head's motion barely moves the robot";
 }
 
+// The manipulator sensor reads the head where the model put it (its anchor),
+// not where the commands say it should be.
+TEST(Dynamics3d, HeadAnchorIsWhereTheHeadIs) {
+  auto sim = testing::LoadXml(Scene(Robot("r", 0.2, -0.1, 30, true) + Robot("plain", -0.5, 0)));
+  ManipulatorState& m = Manipulator(*sim, "r");
+  m.target_elevation = 0.12;
+  m.target_rotation = 0.8;
+  RunFor(*sim, 3);
+  const EntityHandle r = sim->space().Find("r");
+  Pose head;
+  ASSERT_TRUE(sim->Anchor(r, ManipulatorState::kHeadAnchor, head));
+  const Pose& robot = PoseOf(*sim, "r");
+  // Pivot 0.085 + 0.015 m ahead of the robot's axis, at the base + elevation.
+  const Vec3 expected = robot.position + robot.orientation * Vec3(0.1, 0, m.elevation);
+  EXPECT_LT((head.position - expected).norm(), 2e-3);
+  const Vec3 magnet = head.orientation * Vec3::UnitX();
+  EXPECT_NEAR(WrapAngle(std::atan2(magnet.y(), magnet.x()) - (30 * M_PI / 180 + 0.8)), 0.0, 0.02);
+  EXPECT_NEAR(head.position.z(), 0.12, 2e-3);
+  EXPECT_FALSE(sim->Anchor(r, "no_such_anchor", head));
+  EXPECT_FALSE(sim->Anchor(sim->space().Find("plain"), ManipulatorState::kHeadAnchor, head))
+      << "a marXbot without the manipulator has no head";
+}
+
 TEST(Dynamics3d, MagnetHoldsACubeWhileTheHeadLiftsItAndDropsItWhenDisengaged) {
   auto sim = testing::LoadXml(Scene(Robot("r", 0, 0, 0, true) + Cube("c", kFace + 0.033, 0)));
   ManipulatorState& m = Manipulator(*sim, "r");

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string_view>
 #include <vector>
 
 #include "actuators/manipulator/manipulator_state.h"
@@ -180,6 +181,13 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
       m.rotation = Rotation(r);
       m.held = r.magnet.held();
     }
+  }
+
+  bool Anchor(const Space&, uint32_t s, std::string_view name, Pose& pose) const override {
+    if (name != ManipulatorState::kHeadAnchor || s >= robots_.size() || !robots_[s] || !robots_[s]->head) return false;
+    pose.position = BodyPos(robots_[s]->head);
+    pose.orientation = BodyQuat(robots_[s]->head);
+    return true;
   }
 
   // A treel's wheel touches something: its tread drives the robot. The

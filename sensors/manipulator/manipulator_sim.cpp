@@ -2,17 +2,18 @@
 // holding state from the robot's ManipulatorState, and its 6 IR proximity
 // sensors.
 //
-// The head (as dynamics3d builds it): a box 3 cm deep and 5 cm wide whose
-// vertical pivot is just in front of the body, on the robot's x axis, at the
-// robot's base + elevation. The magnet is its outer face at rotation 0; the
-// IR side is the opposite face, facing yaw + rotation + pi. The 6 IR sensors
+// The head is where the robot's physics model put it (its anchor
+// ManipulatorState::kHeadAnchor: the head's centre, x axis out of the magnet
+// face); its size is the marXbot's (entities/marxbot/marxbot.h): 3 cm deep,
+// 5 cm wide. The IR side is the face opposite the magnet. The 6 IR sensors
 // sit along that face, 5/6 cm apart, and look out fanned 15 degrees apart
-// (-37.5 .. +37.5 degrees from the face's normal). Each casts one horizontal
-// ray against the footprints of the solid entities whose height span
-// contains the ray's height. The robot's own body blocks a ray (with the
-// magnet to the front the IR side faces the body) but is not seen; the
-// object the magnet holds is ignored. As for the base's proximity ring, the
-// reading falls with the distance d to the nearest hit:
+// (-37.5 .. +37.5 degrees from the face's normal), horizontally, at the
+// height of the head's centre. Each casts one horizontal ray against the
+// footprints of the solid entities whose height span contains the ray's
+// height. The robot's own body blocks a ray (with the magnet to the front
+// the IR side faces the body) but is not seen; the object the magnet holds
+// is ignored. As for the base's proximity ring, the reading falls with the
+// distance d to the nearest hit:
 //   value = min(1, 0.01 m / d) if d <= range, else 0
 // then noise is added and the value clamped to [0, 1].
 #include "sensors/manipulator/manipulator.h"
@@ -32,17 +33,14 @@ namespace {
 
 constexpr int kIrCount = 6;
 constexpr double kIrFan = M_PI / 12;  // 15 degrees between neighbouring sensors' directions
-// The head, as in engines/dynamics3d.
-constexpr double kHeadDepth = 0.03, kHeadWidth = 0.05;              // m
-constexpr double kHeadPivot = marxbot::kBodyRadius + 0.5 * kHeadDepth;  // m ahead of the robot's axis
-constexpr double kIrSpacing = kHeadWidth / kIrCount;                // m between sensors along the face
+constexpr double kIrSpacing = marxbot::kHeadWidth / kIrCount;  // m between sensors along the face
 
 // Sensor i from the IR side's right: its direction from the face's normal
 // (rad) and its offset along the face, to the left (m).
 constexpr double IrAngle(int i) { return (i - 0.5 * (kIrCount - 1)) * kIrFan; }
 constexpr double IrOffset(int i) { return (i - 0.5 * (kIrCount - 1)) * kIrSpacing; }
-// Farthest a sensor is from the robot's axis (for culling).
-const double kIrReach = kHeadPivot + 0.5 * std::hypot(kHeadDepth, kHeadWidth);
+// Farthest a sensor is from the IR face's centre (for culling).
+constexpr double kIrReach = 0.5 * marxbot::kHeadWidth;
 
 struct ManipulatorSensorInstance : ManipulatorSensor, InstanceBase {
   using Interface = ManipulatorSensor;
@@ -65,6 +63,10 @@ class ManipulatorSensorSystem : public SensorSystem {
   std::vector<std::string> NeededComponents() const override { return {ManipulatorState::kComponentName}; }
 
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
+    Pose head;
+    if (!sim().Anchor(robot, ManipulatorState::kHeadAnchor, head)) {
+      throw AttachError(std::string("its physics model gives no '") + ManipulatorState::kHeadAnchor + "' anchor");
+    }
     ManipulatorSensorInstance& s = instances_.Add(robot, rng);
     for (int i = 0; i < kIrCount; ++i) s.mutable_readings().push_back({0.0f, static_cast<float>(IrAngle(i))});
     return &s;
@@ -73,7 +75,7 @@ class ManipulatorSensorSystem : public SensorSystem {
   size_t size() const override { return instances_.size(); }
 
   // As in the proximity sensor, neighbours are first culled by height and by
-  // distance from the robot's axis (a hit within range lies at most
+  // distance from the IR face's centre (a hit within range lies at most
   // kIrReach + range from it), and the rays are cast only against what
   // survives.
   void Update(size_t begin, size_t end) override {
@@ -86,12 +88,20 @@ class ManipulatorSensorSystem : public SensorSystem {
       const uint32_t self = s.robot.index;
       const ManipulatorState& m = *space.Get<ManipulatorState>(self);
       s.SetJoints(m);
-      const Pose& pose = space.pose(self);
+      // Attach checked that the model gives the anchor, and a robot migrates
+      // only into engines whose model simulates the manipulator.
+      Pose head;
+      if (!sim().Anchor(s.robot, ManipulatorState::kHeadAnchor, head)) continue;
+      // The IR face: its centre, and the directions along its normal and
+      // its width, in the horizontal plane.
+      const Vec3 magnet = head.orientation * Vec3::UnitX();
+      const double facing = std::atan2(-magnet.y(), -magnet.x());
+      const Vec2 normal(std::cos(facing), std::sin(facing)), across(-normal.y(), normal.x());
+      const Vec2 face = (head.position - 0.5 * marxbot::kHeadDepth * magnet).head<2>();
+      const double z = head.position.z();
       const double reach = kIrReach + range_;
-      const Vec2 c = pose.position.head<2>();
-      const double z = pose.position.z() + m.elevation;
       near.clear();
-      space.Gather(c.x() - reach, c.y() - reach, c.x() + reach, c.y() + reach, near);
+      space.Gather(face.x() - reach, face.y() - reach, face.x() + reach, face.y() + reach, near);
       size_t kept = 0;
       for (uint32_t o : near) {
         if (o == self || o == m.held) continue;
@@ -99,16 +109,12 @@ class ManipulatorSensorSystem : public SensorSystem {
         const Geometry& og = space.geometry(o);
         if (!(z >= op.z() && z < op.z() + og.height())) continue;
         const double limit = reach + og.BoundingRadius() + 1e-6;
-        if ((op.head<2>() - c).squaredNorm() >= limit * limit) continue;
+        if ((op.head<2>() - face).squaredNorm() >= limit * limit) continue;
         near[kept++] = o;
       }
       near.resize(kept);
       auto& readings = s.mutable_readings();
-      // The IR face: centre and the directions along its normal and its width.
-      const double yaw = YawOf(pose.orientation);
-      const double facing = yaw + m.rotation + M_PI;
-      const Vec2 normal(std::cos(facing), std::sin(facing)), across(-normal.y(), normal.x());
-      const Vec2 face = c + kHeadPivot * Vec2(std::cos(yaw), std::sin(yaw)) + 0.5 * kHeadDepth * normal;
+      const Pose& pose = space.pose(self);
       for (int i = 0; i < kIrCount; ++i) {
         double value = 0;
         if (!near.empty()) {

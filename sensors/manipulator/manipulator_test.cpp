@@ -14,6 +14,7 @@
 #include "actuators/manipulator/manipulator.h"
 #include "actuators/manipulator/manipulator_state.h"
 #include "core/registry.h"
+#include "entities/marxbot/marxbot.h"
 #include "tests/test_util.h"
 
 namespace colony {
@@ -46,9 +47,23 @@ class ManipulatorDoubleEngine : public PhysicsEngine {
   }
 };
 class DoubleModel : public PhysicsModel {};
+// The head where the commands put it: its pivot just in front of the body,
+// at the base + elevation, turned by the rotation.
+class DoubleMarxbotModel : public PhysicsModel {
+ public:
+  bool Anchor(const Space& space, uint32_t s, std::string_view name, Pose& pose) const override {
+    const ManipulatorState* m = space.Get<ManipulatorState>(s);
+    if (name != ManipulatorState::kHeadAnchor || !m) return false;
+    const Pose& robot = space.pose(s);
+    pose.position = robot.position + robot.orientation * Vec3(marxbot::kBodyRadius + 0.5 * marxbot::kHeadDepth, 0,
+                                                              m->elevation);
+    pose.orientation = robot.orientation * FromYaw(m->rotation);
+    return true;
+  }
+};
 COLONY_REGISTER_ENGINE(ManipulatorDoubleEngine, "manipulator_sensor_double",
                        "test double: heads jump to their commands; nothing moves", {});
-COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:marxbot", "test double",
+COLONY_REGISTER_PHYSICS_MODEL(DoubleMarxbotModel, "manipulator_sensor_double:marxbot", "test double",
                               (std::vector<std::string>{"drive", "manipulator"}));
 COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:cube", "test double", {});
 COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:box", "test double", {});
