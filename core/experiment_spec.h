@@ -128,11 +128,20 @@ struct FloorSpec {
   int line = 0;  // of <floor>, for messages
 };
 
+// <ceiling>: a flat ceiling over the whole arena.
+struct CeilingSpec {
+  bool present = false;
+  double height = 0;          // above the floor (m)
+  bool ferromagnetic = true;  // a magnet (a hand-bot's rope) holds to it
+  int line = 0;               // of <ceiling>, for messages
+};
+
 // <arena>: an axis-aligned box (m) and what is in it.
 struct ArenaSpec {
   Vec3 center = Vec3::Zero();
   Vec3 size = Vec3::Zero();
   FloorSpec floor;
+  CeilingSpec ceiling;
   // The four fixed boxes <walls> lines the arena's edges with (wall_north,
   // wall_south, wall_east, wall_west), built first; empty without <walls>.
   std::vector<EntityDesc> walls;

@@ -61,6 +61,12 @@ std::string OutsideArenaProblem(const Space::EntityInit& init, const Space& spac
       << lo.z() << ", " << hi.z() << "]";
     return s.str();
   }
+  if (space.ceiling() && p.z() + init.geometry.height() > space.ceiling()->z + 1e-9) {
+    std::ostringstream s;
+    s << "reaches above the ceiling: its top is at z = " << p.z() + init.geometry.height() << " but the ceiling is at z = "
+      << space.ceiling()->z;
+    return s.str();
+  }
   return "";
 }
 

@@ -208,6 +208,7 @@ void Simulation::BuildArena(const ArenaSpec& arena) {
   if (!CheckMemory(arena)) return;
   space_.SetArena(arena.center, arena.size);
   const Vec3 lo = arena.center - 0.5 * arena.size, hi = arena.center + 0.5 * arena.size;
+  if (arena.ceiling.present) space_.SetCeiling(Space::Ceiling{lo.z() + arena.ceiling.height, arena.ceiling.ferromagnetic});
   Floor& floor = space_.floor();
   for (const Ditch& ditch : arena.floor.ditches) floor.AddDitch(ditch);
   floor.SetColor(arena.floor.color);

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -193,6 +194,14 @@ class Space {
   const Vec3& arena_max() const { return arena_max_; }
   Floor& floor() { return floor_; }
   const Floor& floor() const { return floor_; }
+  // A flat ceiling over the arena (<ceiling>): its height z (world frame),
+  // and whether a magnet holds to it. None: the arena is open above.
+  struct Ceiling {
+    double z = 0;
+    bool ferromagnetic = true;
+  };
+  const std::optional<Ceiling>& ceiling() const { return ceiling_; }
+  void SetCeiling(std::optional<Ceiling> ceiling) { ceiling_ = ceiling; }
 
   // Rebuilds the spatial index from the current poses. Called once per tick
   // after physics and whenever entities were added or removed.
@@ -261,6 +270,7 @@ class Space {
 
   Vec3 arena_min_ = Vec3(-1, -1, 0), arena_max_ = Vec3(1, 1, 1);
   Floor floor_;
+  std::optional<Ceiling> ceiling_;
 
   // Spatial index, a uniform grid over the arena: movable solid entities by
   // the cell of their centre (rebuilt every tick); non-movable solid ones in

@@ -97,6 +97,7 @@ class SpecReader {
   void ReadLoopFunctions(const ConfigNode& root);
   void ReadArena(const ConfigNode& root);
   void ReadFloor(const ConfigNode& floor);
+  void ReadCeiling(const ConfigNode& ceiling);
   void ReadWalls(const ConfigNode& walls);
   void ReadDistribute(const ConfigNode& node);
   void ReadDraw(const ConfigNode& node, bool degrees, DistributeDraw& out);
@@ -384,11 +385,12 @@ void SpecReader::ReadArena(const ConfigNode& root) {
     root.ElementError("missing <arena size=\"x,y,z\"> holding the robots and objects");
     return;
   }
-  std::vector<std::string> children = {"floor", "walls", "distribute"};
+  std::vector<std::string> children = {"floor", "ceiling", "walls", "distribute"};
   for (const auto& l : Registry<EntityType>::Get().Labels()) children.push_back(l);
   arena.CheckAttributes({"size", "center", "positional_grid_size"});
   arena.CheckChildren(children);
   arena.CheckAtMostOne("floor");
+  arena.CheckAtMostOne("ceiling");
   arena.CheckAtMostOne("walls");
   // Without a size nothing can be placed; other problems do not stop the
   // entities from being checked, so all are reported together.
@@ -399,10 +401,11 @@ void SpecReader::ReadArena(const ConfigNode& root) {
   spec_.arena.size = Vec3(size[0], size[1], size[2]);
   spec_.arena.center = Vec3(c[0], c[1], c[2]);
   if (const ConfigNode floor = arena.Child("floor"); floor.valid()) ReadFloor(floor);
+  if (const ConfigNode ceiling = arena.Child("ceiling"); ceiling.valid()) ReadCeiling(ceiling);
   if (const ConfigNode walls = arena.Child("walls"); walls.valid()) ReadWalls(walls);
   for (const ConfigNode& child : arena.Children()) {
     const std::string n = child.name();
-    if (n == "floor" || n == "walls") continue;
+    if (n == "floor" || n == "ceiling" || n == "walls") continue;
     if (n == "distribute") {
       ReadDistribute(child);
       continue;
@@ -450,6 +453,26 @@ void SpecReader::ReadFloor(const ConfigNode& floor) {
   const std::string source = floor.GetChoice("source", {"color", "image"}, floor.Has("path") ? "image" : "color");
   out.color = floor.GetColor("color", Color::White());
   if (source == "image") out.image = floor.RequireString("path");
+}
+
+void SpecReader::ReadCeiling(const ConfigNode& ceiling) {
+  CeilingSpec& out = spec_.arena.ceiling;
+  out.line = ceiling.line();
+  ceiling.CheckAttributes({"height", "ferromagnetic"});
+  ceiling.CheckChildren({});
+  const double top = spec_.arena.size.z();
+  const size_t before = diag().size();
+  out.height = ceiling.RequireDouble("height", Range::Positive());
+  out.ferromagnetic = ceiling.GetBool("ferromagnetic", true);
+  if (diag().size() != before) return;
+  if (out.height > top) {
+    const std::string raw = ceiling.GetString("height", "");
+    ceiling.Error("height", raw,
+                  "'" + raw + "' puts the ceiling above the arena's top; accepted: a height > 0 and <= the arena's height (" +
+                      FormatNumber(top) + " m)");
+    return;
+  }
+  out.present = true;
 }
 
 void SpecReader::ReadWalls(const ConfigNode& walls) {

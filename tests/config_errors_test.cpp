@@ -450,6 +450,28 @@ TEST(config_errors, AGoodExperimentStillLoads) {
   EXPECT_EQ(sim->length_ticks(), 100u);
 }
 
+// --- Ceilings -------------------------------------------------------------------
+
+TEST(config_errors, CeilingIsReadAndCheckedAgainstTheArenaAndWhatStandsUnderIt) {
+  // The test arena is 4 x 4 x 1 m, its floor at z = 0.
+  const auto sim = LoadXml(Experiment("<ceiling height=\"0.8\" ferromagnetic=\"false\"/>"));
+  ASSERT_TRUE(sim->space().ceiling().has_value());
+  EXPECT_DOUBLE_EQ(sim->space().ceiling()->z, 0.8);
+  EXPECT_FALSE(sim->space().ceiling()->ferromagnetic);
+  EXPECT_FALSE(LoadXml(Experiment(""))->space().ceiling().has_value()) << "no <ceiling>: open above";
+  EXPECT_TRUE(Mentions(LoadError(Experiment("\n<ceiling height=\"1.5\"/>")),
+                       {"<string>:2:", "<ceiling>", "height", "'1.5'", "above the arena's top", "<= the arena's height (1 m)"}));
+  EXPECT_TRUE(Mentions(LoadError(Experiment("\n<ceiling height=\"-1\" ferromagnetic=\"maybe\"/>")),
+                       {"<string>:2:", "height", "'-1'"}));
+  EXPECT_TRUE(Mentions(LoadError(Experiment("\n<ceiling ferromagnetic=\"maybe\"/>")),
+                       {"<string>:2:", "ferromagnetic", "'maybe'"}));
+  EXPECT_TRUE(Mentions(LoadError(Experiment("<ceiling height=\"0.5\"/><ceiling height=\"0.6\"/>")), {"<ceiling>"}));
+  // A box 0.6 m tall under a ceiling 0.5 m up.
+  EXPECT_TRUE(Mentions(LoadError(Experiment("<ceiling height=\"0.5\"/>\n<box id=\"tall\" size=\"0.2,0.2,0.6\">"
+                                            "<body position=\"1,1,0\"/></box>")),
+                       {"<string>:2:", "'tall'", "reaches above the ceiling", "z = 0.6", "z = 0.5"}));
+}
+
 // --- Floors with ditches ------------------------------------------------------
 
 TEST(config_errors, DitchOutsideTheArena) {
