@@ -151,6 +151,7 @@ class Dynamics3dEngine : public Engine {
     p.friction[kBody] = node.GetDouble("body_friction", 0.3, Range::NonNegative());
     p.friction[kCube] = node.GetDouble("cube_friction", 0.5, Range::NonNegative());
     p.friction[kObject] = node.GetDouble("object_friction", 0.5, Range::NonNegative());
+    p.friction[kCeiling] = p.friction[kObject];
     p.treel_max_torque = node.GetDouble("treel_max_torque", 0.22, Range::Positive());
     p.magnet_max_force = node.GetDouble("magnet_max_force", 2.0, Range::Positive());
     p.magnet_reach = node.GetDouble("magnet_reach", 0.01, Range::NonNegative());
@@ -270,6 +271,13 @@ class Dynamics3dEngine : public Engine {
   void BuildFloor(const Space& space) {
     floor_built_ = true;
     const double z = space.arena_min().z();
+    if (space.ceiling()) {
+      // The ceiling: a slab 1 m thick above its height, over the floor's extent.
+      const Vec3 lo = space.arena_min(), hi = space.arena_max();
+      dGeomID slab = dCreateBox(static_, hi.x() - lo.x() + 2, hi.y() - lo.y() + 2, 1.0);
+      dGeomSetData(slab, Tag(kNone, kCeiling));
+      dGeomSetPosition(slab, 0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), space.ceiling()->z + 0.5);
+    }
     const auto& ditches = space.floor().ditches();
     if (ditches.empty()) {
       dGeomID plane = dCreatePlane(static_, 0, 0, 1, z);

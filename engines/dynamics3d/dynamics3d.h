@@ -24,8 +24,9 @@ inline constexpr uint32_t kNone = 0xFFFFFFFFu;
 // Surface materials. A contact uses the smaller of its two materials'
 // friction coefficients (the engine's *_friction attributes). Geoms of
 // material kTread are moving surfaces: their model sets the contacts'
-// surface motion (Dynamics3dModel::ModifyContacts).
-enum Material : uint8_t { kGround, kTread, kBody, kCube, kObject, kMaterials };
+// surface motion (Dynamics3dModel::ModifyContacts). The ceiling has the
+// friction of objects.
+enum Material : uint8_t { kGround, kTread, kBody, kCube, kObject, kCeiling, kMaterials };
 
 // Conversions between ODE and Colony.
 inline Vec3 ToVec(const dReal* v) { return Vec3(v[0], v[1], v[2]); }
@@ -53,7 +54,7 @@ inline void SetBodyVelocity(dBodyID b, const Vec3& v, const Vec3& w) {
 struct Params {
   Vec3 gravity = Vec3(0, 0, -9.81);
   double erp = 0.2, cfm = 1e-5;
-  std::array<double, kMaterials> friction = {1.0, 0.6, 0.3, 0.5, 0.5};
+  std::array<double, kMaterials> friction = {1.0, 0.6, 0.3, 0.5, 0.5, 0.5};
   double treel_max_torque = 0.22;  // N m, per treel motor
   double magnet_max_force = 2.0;   // N
   double magnet_reach = 0.01;      // m

@@ -520,6 +520,16 @@ TEST(Dynamics3d, ObjectsFallAndRestOnTheFloorAndFixedOnesStayPut) {
   EXPECT_LT(sim->space().twist(SlotOf(*sim, "b")).linear.norm(), 1e-3);
 }
 
+TEST(Dynamics3d, TheCeilingIsSolid) {
+  // Gravity reversed: a box "falls" up against a ceiling 0.8 m above the floor.
+  auto sim = testing::LoadXml(Scene("<ceiling height=\"0.8\"/><box id=\"b\" size=\"0.2,0.1,0.1\" movable=\"true\" "
+                                    "mass=\"0.5\"><body position=\"0,0,0.3\"/></box>",
+                                    Engine("gravity=\"0,0,9.81\"")));
+  RunFor(*sim, 1.5);
+  EXPECT_NEAR(PositionOf(*sim, "b").z(), 0.7, 0.002) << "its top against the ceiling";
+  EXPECT_LT(sim->space().twist(SlotOf(*sim, "b")).linear.norm(), 1e-3);
+}
+
 // ---------------------------------------------------------------------------
 // Determinism and several engines.
 
