@@ -98,6 +98,40 @@ void Engine::AddSolid(uint32_t s, Material material) {
   if (material == kCube) cubes_.insert(std::lower_bound(cubes_.begin(), cubes_.end(), s), s);
 }
 
+bool Engine::CastRay(const Vec3& from, const Vec3& direction, double length, uint32_t ignore, RayHit& hit) {
+  if (!floor_built_) BuildFloor(sim().space());
+  struct Query {
+    dGeomID ray;
+    uint32_t ignore;
+    bool found = false;
+    RayHit* hit;
+    static void Callback(void* data, dGeomID a, dGeomID b) {
+      auto* q = static_cast<Query*>(data);
+      if (dGeomIsSpace(a) || dGeomIsSpace(b)) {
+        dSpaceCollide2(a, b, data, &Query::Callback);
+        return;
+      }
+      dGeomID other = a == q->ray ? b : a;
+      if (OwnerOf(other) == q->ignore && q->ignore != kNone) return;
+      dContactGeom c;
+      if (dCollide(q->ray, other, 1, &c, sizeof(dContactGeom)) == 0) return;
+      if (q->found && c.depth >= q->hit->distance) return;
+      q->found = true;
+      q->hit->distance = c.depth;
+      q->hit->point = ToVec(c.pos);
+      q->hit->material = static_cast<Material>(reinterpret_cast<uintptr_t>(dGeomGetData(other)) & 7);
+      q->hit->owner = OwnerOf(other);
+    }
+  };
+  dGeomID ray = dCreateRay(nullptr, length);
+  dGeomRaySet(ray, from.x(), from.y(), from.z(), direction.x(), direction.y(), direction.z());
+  Query q{ray, ignore, false, &hit};
+  dSpaceCollide2(ray, reinterpret_cast<dGeomID>(space_), &q, &Query::Callback);
+  dSpaceCollide2(ray, reinterpret_cast<dGeomID>(static_), &q, &Query::Callback);
+  dGeomDestroy(ray);
+  return q.found;
+}
+
 namespace {
 
 // ODE is initialised once per process; quickstep's random draws come from a
@@ -268,7 +302,7 @@ class Dynamics3dEngine : public Engine {
 
   // The floor: a plane, or boxes around the ditches with the ditch bottoms
   // `depth` lower. The floor reaches 1 m beyond the arena on every side.
-  void BuildFloor(const Space& space) {
+  void BuildFloor(const Space& space) override {
     floor_built_ = true;
     const double z = space.arena_min().z();
     if (space.ceiling()) {
@@ -478,7 +512,6 @@ class Dynamics3dEngine : public Engine {
   }
 
   dJointGroupID contacts_ = nullptr;
-  bool floor_built_ = false;
   unsigned long random_seed_ = 0;
   bool quickstep_ = true;
   int iterations_ = 20, substeps_ = 10;

@@ -130,6 +130,19 @@ class Engine : public PhysicsEngine {
   static uint32_t OwnerOf(dGeomID g);
   static uint8_t PartOf(dGeomID g);
 
+  // What a ray met: its distance along the ray, the point, the material and
+  // the owner (kNone for the floor and the ceiling).
+  struct RayHit {
+    double distance = 0;
+    Vec3 point = Vec3::Zero();
+    Material material = kGround;
+    uint32_t owner = kNone;
+  };
+  // The nearest geom (fixed or movable, not one of `ignore`'s) a ray from
+  // `from` along the unit vector `direction` meets within `length`; false if
+  // none. Builds the floor and ceiling first if the engine has not stepped.
+  bool CastRay(const Vec3& from, const Vec3& direction, double length, uint32_t ignore, RayHit& hit);
+
   // Movable construction cubes, in slot order.
   const std::vector<uint32_t>& cubes() const { return cubes_; }
   // The entity holding `s` (kNone: none). A held entity does not collide with
@@ -149,6 +162,8 @@ class Engine : public PhysicsEngine {
     uint32_t held_by = kNone;
   };
 
+  virtual void BuildFloor(const Space& space) = 0;
+  bool floor_built_ = false;
   Params params_;
   dWorldID world_ = nullptr;
   dSpaceID space_ = nullptr, static_ = nullptr;
