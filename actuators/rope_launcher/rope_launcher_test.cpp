@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "actuators/handbot_arms/handbot_arms_state.h"
 #include "actuators/rope_launcher/rope_launcher.h"
 #include "actuators/rope_launcher/rope_state.h"
 #include "core/registry.h"
@@ -48,7 +49,8 @@ constexpr double kGravity = 9.81;
 
 // A hand-bot at the origin of a 3 x 3 x 3 m arena.
 std::string Scene(const std::string& ceiling, const std::string& handbot_attributes = "",
-                  const std::string& more = "", const std::string& engine = "<dynamics3d id=\"d3d\"/>") {
+                  const std::string& more = "",
+                  const std::string& engine = "<dynamics3d id=\"d3d\" stepper=\"worldstep\"/>") {
   return "<colony><framework><experiment length=\"100\" ticks_per_second=\"10\" random_seed=\"3\"/></framework>"
          "<controllers><rope_probe id=\"rp\"><actuators><rope_launcher/></actuators><sensors><rope_traction/>"
          "</sensors></rope_probe></controllers><arena size=\"3,3,3\" center=\"0,0,1.5\">" +
@@ -85,6 +87,22 @@ TEST(RopeLauncher, ALaunchedRopeHoldsToACeiling2_5mUpAndTheTractionReadsTheWeigh
   EXPECT_NEAR(p.sensor->traction(), 2.0 * kGravity, 0.05 * 2.0 * kGravity) << "the hand-bot's 2 kg";
   EXPECT_NEAR(p.sensor->length(), 2.5 - handbot::kHeight - 0.3, 0.02);
   EXPECT_FALSE(p.sensor->stalled());
+}
+
+TEST(RopeLauncher, DISABLED_Debug) {
+  auto sim = LoadXml(Scene("<ceiling height=\"2.5\"/>", "", "", getenv("ENG") ? getenv("ENG") : "<dynamics3d id=\"d3d\" stepper=\"worldstep\"/>"));
+  RopeProbe& p = Probe(*sim);
+  p.launch = true;
+  RunFor(*sim, 0.5);
+  p.climb = 0.1;
+  for (int t = 0; t < 60; ++t) {
+    if (t == 30) p.climb = 0;
+    if (t == 45) p.retrieve = true;
+    sim->Step();
+    const Pose& q = sim->space().pose(sim->space().Find("h").index);
+    printf("t=%d pos=%.4f,%.4f,%.4f tilt=%.4f T=%.3f len=%.3f\n", t, q.position.x(), q.position.y(), q.position.z(),
+           (q.orientation * Vec3::UnitZ()).z(), p.sensor->traction(), p.sensor->length());
+  }
 }
 
 TEST(RopeLauncher, ALaunchFailsWithoutAFerromagneticCeilingWithinReach) {

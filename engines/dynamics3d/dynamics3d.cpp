@@ -54,16 +54,18 @@ Space& Engine::entities() { return sim().space(); }
 // Entity origin (centre of the base) -> body origin, in the entity's frame.
 static Vec3 Up(double z) { return Vec3(0, 0, z); }
 
-dBodyID Engine::MakeBody(uint32_t s, double com_height) {
+dBodyID Engine::MakeBody(uint32_t s, double com_height) { return MakeBody(s, Up(com_height)); }
+
+dBodyID Engine::MakeBody(uint32_t s, const Vec3& com) {
   const Space& space = sim().space();
   const Pose& pose = space.pose(s);
   const Twist& twist = space.twist(s);
   dBodyID b = dBodyCreate(world_);
-  const Vec3 arm = pose.orientation * Up(com_height);
+  const Vec3 arm = pose.orientation * com;
   PlaceBody(b, pose.position + arm, pose.orientation);
   SetBodyVelocity(b, twist.linear + twist.angular.cross(arm), twist.angular);
   slots_[s].body = b;
-  slots_[s].com_height = com_height;
+  slots_[s].com = com;
   return b;
 }
 
@@ -132,6 +134,41 @@ bool Engine::CastRay(const Vec3& from, const Vec3& direction, double length, uin
   return q.found;
 }
 
+bool Engine::TouchAt(const Vec3& centre, double radius, uint32_t ignore, Touch& touch) {
+  if (!floor_built_) BuildFloor(sim().space());
+  struct Query {
+    dGeomID sphere;
+    uint32_t ignore;
+    bool found = false;
+    Touch* touch;
+    static void Callback(void* data, dGeomID a, dGeomID b) {
+      auto* q = static_cast<Query*>(data);
+      if (dGeomIsSpace(a) || dGeomIsSpace(b)) {
+        dSpaceCollide2(a, b, data, &Query::Callback);
+        return;
+      }
+      dGeomID other = a == q->sphere ? b : a;
+      const uint32_t owner = OwnerOf(other);
+      if (owner == q->ignore && q->ignore != kNone) return;
+      if (q->found && owner >= q->touch->owner) return;
+      dContactGeom c;
+      if (dCollide(q->sphere, other, 1, &c, sizeof(dContactGeom)) == 0) return;
+      q->found = true;
+      q->touch->geom = other;
+      q->touch->body = dGeomGetBody(other);
+      q->touch->owner = owner;
+      q->touch->material = static_cast<Material>(reinterpret_cast<uintptr_t>(dGeomGetData(other)) & 7);
+    }
+  };
+  dGeomID sphere = dCreateSphere(nullptr, radius);
+  dGeomSetPosition(sphere, centre.x(), centre.y(), centre.z());
+  Query q{sphere, ignore, false, &touch};
+  dSpaceCollide2(sphere, reinterpret_cast<dGeomID>(space_), &q, &Query::Callback);
+  dSpaceCollide2(sphere, reinterpret_cast<dGeomID>(static_), &q, &Query::Callback);
+  dGeomDestroy(sphere);
+  return q.found;
+}
+
 namespace {
 
 // ODE is initialised once per process; quickstep's random draws come from a
@@ -193,6 +230,8 @@ class Dynamics3dEngine : public Engine {
     p.cube_capture_angle = node.GetDouble("cube_capture_angle", 0.35, Range::Between(0, M_PI / 4));
     p.cube_bond_force = node.GetDouble("cube_bond_force", 2.0, Range::Positive());
 
+    p.quickstep = quickstep_;
+    p.iterations = iterations_;
     dWorldSetGravity(world_, p.gravity.x(), p.gravity.y(), p.gravity.z());
     dWorldSetERP(world_, p.erp);
     dWorldSetCFM(world_, p.cfm);
@@ -231,7 +270,7 @@ class Dynamics3dEngine : public Engine {
     for (size_t k = bonds_.size(); k-- > 0;) {
       if (bonds_[k].upper == s || bonds_[k].lower == s) Unbond(k);
     }
-    if (slot.held_by != kNone) slots_[slot.held_by].model->Release(*this, slot.held_by);
+    if (slot.held_by != kNone) slots_[slot.held_by].model->Release(*this, slot.held_by, s);
     if (slot.body) slot.model->Remove(*this, s);
     for (dGeomID g : slot.geoms) dGeomDestroy(g);
     if (slot.space) dSpaceDestroy(slot.space);
@@ -499,7 +538,7 @@ class Dynamics3dEngine : public Engine {
   void WriteBody(Space& space, uint32_t s) {
     const Slot& slot = slots_[s];
     const Quat q = BodyQuat(slot.body);
-    const Vec3 origin = BodyPos(slot.body) - q * Up(slot.com_height);
+    const Vec3 origin = BodyPos(slot.body) - q * slot.com;
     Pose& pose = space.pose(s);
     pose.position = origin;
     pose.orientation = q;

@@ -59,6 +59,8 @@ struct Params {
   double magnet_max_force = 2.0;   // N
   double magnet_reach = 0.01;      // m
   double cube_capture = 0.02, cube_capture_angle = 0.35, cube_bond_force = 2.0;
+  bool quickstep = true;  // the stepper: quickstep (iterative) or worldstep (exact)
+  int iterations = 20;    // quickstep's
 };
 
 class Engine;
@@ -81,9 +83,9 @@ class Dynamics3dModel : public PhysicsModel {
   // Destroys the joints and part bodies it made for `s`, which is leaving the
   // engine; the engine then destroys the entity's geoms and main body.
   virtual void Remove(Engine& engine, uint32_t s) { (void)engine, (void)s; }
-  // `holder` (one of this model's entities) must let go of what it holds:
-  // the held entity is leaving the engine.
-  virtual void Release(Engine& engine, uint32_t holder) { (void)engine, (void)holder; }
+  // `holder` (one of this model's entities) must let go of `held`, which is
+  // leaving the engine.
+  virtual void Release(Engine& engine, uint32_t holder, uint32_t held) { (void)engine, (void)holder, (void)held; }
   // Each tick: before the sub-steps (commands into motors, grips), before
   // each sub-step (motors that track a target), after each sub-step's
   // solve (joints that break), and after the tick (components written back;
@@ -112,8 +114,10 @@ class Engine : public PhysicsEngine {
   Space& entities();
 
   // Creates the main body of `s` at the entity's pose and velocity, its origin
-  // com_height above the entity's origin (in the entity's frame).
+  // com_height above the entity's origin (in the entity's frame), or at
+  // `com` from it (a centre of mass off the entity's axis).
   dBodyID MakeBody(uint32_t s, double com_height);
+  dBodyID MakeBody(uint32_t s, const Vec3& com);
   dBodyID BodyOf(uint32_t s) const { return s < slots_.size() ? slots_[s].body : nullptr; }
   // A body of another part of `s` (a manipulator's head): stopped with the
   // main body when it falls off the floor. The model destroys it.
@@ -143,6 +147,17 @@ class Engine : public PhysicsEngine {
   // none. Builds the floor and ceiling first if the engine has not stepped.
   bool CastRay(const Vec3& from, const Vec3& direction, double length, uint32_t ignore, RayHit& hit);
 
+  // What a sphere touches: the geom with the lowest owner slot (kNone, the
+  // floor and the ceiling, last) that overlaps the sphere of `radius` at
+  // `centre`, not one of `ignore`'s; its body is null for fixed things.
+  struct Touch {
+    dGeomID geom = nullptr;
+    dBodyID body = nullptr;
+    uint32_t owner = kNone;
+    Material material = kGround;
+  };
+  bool TouchAt(const Vec3& centre, double radius, uint32_t ignore, Touch& touch);
+
   // Movable construction cubes, in slot order.
   const std::vector<uint32_t>& cubes() const { return cubes_; }
   // The entity holding `s` (kNone: none). A held entity does not collide with
@@ -158,7 +173,7 @@ class Engine : public PhysicsEngine {
     dSpaceID space = nullptr;  // the space of its parts, if any
     std::vector<dGeomID> geoms;
     std::vector<dBodyID> parts;  // part bodies beside the main one
-    double com_height = 0;       // body origin above the entity's origin, in its frame (m)
+    Vec3 com = Vec3::Zero();     // body origin (centre of mass) from the entity's origin, in its frame (m)
     uint32_t held_by = kNone;
   };
 

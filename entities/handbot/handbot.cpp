@@ -1,7 +1,9 @@
 #include "entities/handbot/handbot.h"
 
+#include "actuators/handbot_arms/handbot_arms_state.h"
 #include "actuators/rope_launcher/rope_state.h"
 #include "core/entity_type.h"
+#include "core/text.h"
 
 namespace colony {
 namespace {
@@ -25,10 +27,29 @@ class HandbotType : public EntityType {
     init.color = node.GetColor("color", Color{200, 200, 200, 255});
     init.led_count = kRingLedCount;
     init.mass = node.GetDouble("mass", kMass, Range::Positive());
+    if (init.mass <= kPartsMass) {
+      node.Error("mass", node.GetString("mass", ""),
+                 "a hand-bot of " + FormatNumber(init.mass) + " kg is no heavier than its head, arms and grippers (" +
+                     FormatNumber(kPartsMass) + " kg); accepted: a number > " + FormatNumber(kPartsMass) + " (kg)");
+    }
     RopeState& rope = init.components.Add<RopeState>();
     rope.max_length = node.GetDouble("rope_length", kRopeMaxLength, Range::Positive());
     rope.max_climb_speed = node.GetDouble("climb_speed", kRopeMaxClimbSpeed, Range::Positive());
     rope.motor_force = node.GetDouble("rope_force", kRopeMotorForce, Range::Positive());
+    HandbotArmsState& arms = init.components.Add<HandbotArmsState>();
+    arms.head.motor = {kHeadStallTorque, kHeadNoLoadSpeed};
+    arms.head.speed = kHeadNominalSpeed;
+    for (int k = 0; k < 2; ++k) {
+      arms.arm[k].motor = {kArmStallTorque, kArmNoLoadSpeed};
+      arms.arm[k].speed = kArmNominalSpeed;
+      arms.arm[k].min = 0;
+      arms.arm[k].max = M_PI / 2;
+      arms.wrist[k].motor = {kWristStallTorque, kWristNoLoadSpeed};
+      arms.wrist[k].speed = kWristNominalSpeed;
+      arms.claws[k].speed = kClawSpeed;
+    }
+    arms.grasp_force = kGraspForce;
+    arms.holding_limit = node.GetDouble("holding_limit", kHoldingLimit, Range::Positive());
   }
   bool is_robot() const override { return true; }
   const DeviceMounts& mounts() const override { return mounts_; }
@@ -40,14 +61,15 @@ class HandbotType : public EntityType {
 COLONY_REGISTER_ENTITY(
     HandbotType, "handbot",
     "the hand-bot: a climbing robot that cannot drive; hull with proximity ring and 12 RGB LEDs on its "
-    "docking ring, a rope launcher that fires a magnet up to a ferromagnetic ceiling and climbs the rope "
-    "(needs dynamics3d); takes <body> and <controller config>",
+    "docking ring, a rope launcher that fires a magnet up to a ferromagnetic ceiling and climbs the rope, a "
+    "head turning two arms with a gripper each (needs dynamics3d); takes <body> and <controller config>",
     (std::vector<AttributeDoc>{
         {"color", kColorAccepted, "200,200,200", "hull colour"},
-        {"mass", "a number > 0 (kg)", "2", "the whole robot's mass"},
+        {"mass", "a number > 0.8 (kg)", "2", "the whole robot's mass"},
         {"rope_length", "a number > 0 (m)", "2.7", "how far above the launcher the magnet reaches"},
         {"climb_speed", "a number > 0 (m/s)", "0.1", "fastest the rope motor coils the rope in or lets it out"},
         {"rope_force", "a number > 0 (N)", "50", "most the rope motor pulls (climbing stalls beyond it)"},
+        {"holding_limit", "a number > 0 (N)", "39.24", "pull beyond which a grasped thing slips out of a gripper"},
     }),
     (std::vector<std::string>{"hand-bot"}));
 

@@ -24,4 +24,28 @@ inline constexpr double kRopeMaxLength = 2.7;       // m (seed 000: the magnet r
 inline constexpr double kRopeMaxClimbSpeed = 0.1;   // m/s (our choice)
 inline constexpr double kRopeMotorForce = 50;       // N (our choice: lifts the robot and a 2 kg load)
 
+// Head: a box in front of the hull turning both arms about the robot's
+// forward (x) axis. Each arm is a bar hinged on the head's front face,
+// folded along the head (pointing sideways) at extension 0 and straight
+// ahead at pi/2; a gripper at its end points along it, turns about it and
+// closes its claws on what is in front of its tip (our layout, after seed
+// 000 figure 2.9).
+inline constexpr double kHeadDepth = 0.04, kHeadWidth = 0.12, kHeadHeight = 0.08;  // m (choice)
+inline constexpr double kHeadX = kHullRadius + 0.5 * kHeadDepth;  // m, its centre ahead of the axis
+inline constexpr double kHeadZ = 0.18;                            // m, above the base (choice)
+inline constexpr double kShoulderY = 0.06;                        // m, each arm's hinge from the head's middle
+inline constexpr double kArmLength = 0.15, kArmThickness = 0.03;  // m (choice)
+inline constexpr double kGripperLength = 0.06, kGripperWidth = 0.04;  // m (choice)
+inline constexpr double kHeadMass = 0.2, kArmMass = 0.15, kGripperMass = 0.15;  // kg (choice; the hull has the rest)
+inline constexpr double kPartsMass = kHeadMass + 2 * (kArmMass + kGripperMass);
+// Motors (seed 003): table 5.2 (head), 5.1 (arms), 5.4 (gripper rotation);
+// the claws close at 0.03 m/s at their 3 cm tips (table 5.3): 1 rad/s.
+inline constexpr double kHeadStallTorque = 1.44, kHeadNoLoadSpeed = 2.85, kHeadNominalSpeed = 1.54;
+inline constexpr double kArmStallTorque = 2.27, kArmNoLoadSpeed = 2.61, kArmNominalSpeed = 2.29;
+inline constexpr double kWristStallTorque = 0.265, kWristNoLoadSpeed = 0.604, kWristNominalSpeed = 0.491;
+inline constexpr double kClawSpeed = 1.0;           // rad/s
+inline constexpr double kGraspForce = 25;           // N (table 5.3)
+inline constexpr double kHoldingLimit = 4 * 9.81;   // N: "the claws can apply a force up to 4 kg" (seed 000)
+inline constexpr double kClawReach = 0.03;          // m beyond the gripper's tip the claws close on
+
 }  // namespace colony::handbot

@@ -143,7 +143,10 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
     slots_.erase(std::lower_bound(slots_.begin(), slots_.end(), s));
   }
 
-  void Release(Engine& engine, uint32_t holder) override { robots_[holder]->magnet.Release(engine); }
+  void Release(Engine& engine, uint32_t holder, uint32_t held) override {
+    (void)held;  // the magnet holds one thing
+    robots_[holder]->magnet.Release(engine);
+  }
 
   void BeforeStep(Engine& engine, double dt) override {
     Space& space = engine.entities();
