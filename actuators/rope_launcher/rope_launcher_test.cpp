@@ -8,7 +8,6 @@
 #include <cmath>
 #include <string>
 
-#include "actuators/handbot_arms/handbot_arms_state.h"
 #include "actuators/rope_launcher/rope_launcher.h"
 #include "actuators/rope_launcher/rope_state.h"
 #include "core/registry.h"
@@ -87,22 +86,6 @@ TEST(RopeLauncher, ALaunchedRopeHoldsToACeiling2_5mUpAndTheTractionReadsTheWeigh
   EXPECT_NEAR(p.sensor->traction(), 2.0 * kGravity, 0.05 * 2.0 * kGravity) << "the hand-bot's 2 kg";
   EXPECT_NEAR(p.sensor->length(), 2.5 - handbot::kHeight - 0.3, 0.02);
   EXPECT_FALSE(p.sensor->stalled());
-}
-
-TEST(RopeLauncher, DISABLED_Debug) {
-  auto sim = LoadXml(Scene("<ceiling height=\"2.5\"/>", "", "", getenv("ENG") ? getenv("ENG") : "<dynamics3d id=\"d3d\" stepper=\"worldstep\"/>"));
-  RopeProbe& p = Probe(*sim);
-  p.launch = true;
-  RunFor(*sim, 0.5);
-  p.climb = 0.1;
-  for (int t = 0; t < 60; ++t) {
-    if (t == 30) p.climb = 0;
-    if (t == 45) p.retrieve = true;
-    sim->Step();
-    const Pose& q = sim->space().pose(sim->space().Find("h").index);
-    printf("t=%d pos=%.4f,%.4f,%.4f tilt=%.4f T=%.3f len=%.3f\n", t, q.position.x(), q.position.y(), q.position.z(),
-           (q.orientation * Vec3::UnitZ()).z(), p.sensor->traction(), p.sensor->length());
-  }
 }
 
 TEST(RopeLauncher, ALaunchFailsWithoutAFerromagneticCeilingWithinReach) {

@@ -276,11 +276,16 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     double torque_sum = 0;
     double Angle() const { return origin + sign * dJointGetHingeAngle(hinge); }
     double Rate() const { return sign * dJointGetHingeAngleRate(hinge); }
-    // The joint's torque on its moving part about the axis, in the state's sense.
+    // The motor's torque on the moving part about the axis, in the state's
+    // sense. ODE gives the joint's torque about the part's centre of mass,
+    // which includes the moment of the hinge's constraint force about it:
+    // taken out, what is left about the axis is the motor's (and a stop's).
     double Torque() const {
-      dVector3 axis;
+      dVector3 axis, anchor;
       dJointGetHingeAxis(hinge, axis);
-      return sign * ToVec(feedback.t1).dot(ToVec(axis));
+      dJointGetHingeAnchor(hinge, anchor);
+      const Vec3 arm = ToVec(anchor) - BodyPos(dJointGetBody(hinge, 0));
+      return sign * (ToVec(feedback.t1) - arm.cross(ToVec(feedback.f1))).dot(ToVec(axis));
     }
   };
   struct Robot {
