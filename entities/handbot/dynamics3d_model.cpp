@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "actuators/handbot_arms/handbot_arms_state.h"
+#include "actuators/handbot_fans/handbot_fans_state.h"
 #include "actuators/rope_launcher/rope_state.h"
 #include "core/log.h"
 #include "core/space.h"
@@ -156,6 +157,7 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
         Drive(r.arm_joint[k], arms.arm[k], h);
         Drive(r.wrist_joint[k], arms.wrist[k], h);
       }
+      Fans(engine, s, *space.Get<HandbotFansState>(s));
       if (!r.attached) continue;
       const RopeState& rope = *space.Get<RopeState>(s);
       const double speed = std::clamp(std::isfinite(rope.climb_speed) ? rope.climb_speed : 0.0,
@@ -380,6 +382,23 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     }
   }
 
+  // The fans: a yaw torque about the hull's axis, the one commanded or the
+  // heading hold's (PD on the hull's yaw and yaw rate), within their most.
+  static void Fans(Engine& engine, uint32_t s, HandbotFansState& fans) {
+    dBodyID hull = engine.BodyOf(s);
+    const Quat q = BodyQuat(hull);
+    const Vec3 axis = q * Vec3::UnitZ();
+    double torque = fans.torque;
+    if (fans.hold) {
+      const double yaw = YawOf(q);
+      const double rate = ToVec(dBodyGetAngularVel(hull)).dot(axis);
+      torque = -handbot::kFanHoldGain * WrapAngle(yaw - fans.heading) - handbot::kFanHoldDamping * rate;
+    }
+    torque = std::clamp(torque, -fans.max_torque, fans.max_torque);
+    fans.applied = torque;
+    if (torque != 0) dBodyAddTorque(hull, torque * axis.x(), torque * axis.y(), torque * axis.z());
+  }
+
   // The motor towards the target at the commanded speed, with the torque a
   // DC motor gives at the joint's present speed.
   static void Drive(Joint& j, const HandbotJoint& state, double h) {
@@ -487,7 +506,7 @@ COLONY_REGISTER_PHYSICS_MODEL(HandbotDynamics3dModel, "dynamics3d:handbot",
                               "hull on the floor; the rope: a unilateral distance constraint from the ceiling magnet to the "
                               "launcher, coiled in by a force-limited motor; head, arms and grippers on motorised "
                               "hinges (DC motor torque-speed lines), claws that grasp with a breakable joint",
-                              (std::vector<std::string>{"rope", "handbot_arms"}));
+                              (std::vector<std::string>{"rope", "handbot_arms", "handbot_fans"}));
 
 }  // namespace
 }  // namespace colony

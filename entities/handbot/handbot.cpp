@@ -1,6 +1,7 @@
 #include "entities/handbot/handbot.h"
 
 #include "actuators/handbot_arms/handbot_arms_state.h"
+#include "actuators/handbot_fans/handbot_fans_state.h"
 #include "actuators/rope_launcher/rope_state.h"
 #include "core/entity_type.h"
 #include "core/text.h"
@@ -50,6 +51,7 @@ class HandbotType : public EntityType {
     }
     arms.grasp_force = kGraspForce;
     arms.holding_limit = node.GetDouble("holding_limit", kHoldingLimit, Range::Positive());
+    init.components.Add<HandbotFansState>().max_torque = node.GetDouble("fan_torque", kFanTorque, Range::Positive());
   }
   bool is_robot() const override { return true; }
   const DeviceMounts& mounts() const override { return mounts_; }
@@ -70,6 +72,7 @@ COLONY_REGISTER_ENTITY(
         {"climb_speed", "a number > 0 (m/s)", "0.1", "fastest the rope motor coils the rope in or lets it out"},
         {"rope_force", "a number > 0 (N)", "50", "most the rope motor pulls (climbing stalls beyond it)"},
         {"holding_limit", "a number > 0 (N)", "39.24", "pull beyond which a grasped thing slips out of a gripper"},
+        {"fan_torque", "a number > 0 (N m)", "0.05", "most yaw torque the two fans give together"},
     }),
     (std::vector<std::string>{"hand-bot"}));
 

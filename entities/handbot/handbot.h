@@ -48,4 +48,11 @@ inline constexpr double kGraspForce = 25;           // N (table 5.3)
 inline constexpr double kHoldingLimit = 4 * 9.81;   // N: "the claws can apply a force up to 4 kg" (seed 000)
 inline constexpr double kClawReach = 0.03;          // m beyond the gripper's tip the claws close on
 
+// Fans: the most yaw torque the two together give (our choice: turns the
+// hanging robot, whose inertia about its axis is about 0.04 kg m^2 with the
+// arms folded sideways, by a quarter turn in about 2 s).
+inline constexpr double kFanTorque = 0.05;  // N m
+// The fans' heading hold: a PD controller on the IMU's yaw and yaw rate.
+inline constexpr double kFanHoldGain = 0.5, kFanHoldDamping = 0.2;  // N m per rad, N m per rad/s
+
 }  // namespace colony::handbot

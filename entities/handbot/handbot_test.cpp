@@ -8,6 +8,7 @@
 #include <string>
 
 #include "actuators/handbot_arms/handbot_arms.h"
+#include "actuators/handbot_fans/handbot_fans.h"
 #include "actuators/handbot_grippers/handbot_grippers.h"
 #include "actuators/handbot_head/handbot_head.h"
 #include "actuators/rope_launcher/rope_launcher.h"
@@ -33,6 +34,7 @@ class HandbotProbe : public Controller {
     arms = &GetActuator<HandbotArmsActuator>("handbot_arms");
     grippers = &GetActuator<HandbotGrippersActuator>("handbot_grippers");
     rope = &GetActuator<RopeLauncherActuator>("rope_launcher");
+    fans = &GetActuator<HandbotFansActuator>("handbot_fans");
     head_sensor = &GetSensor<HandbotHeadSensor>("handbot_head");
     arms_sensor = &GetSensor<HandbotArmsSensor>("handbot_arms");
     grippers_sensor = &GetSensor<HandbotGrippersSensor>("handbot_grippers");
@@ -42,6 +44,7 @@ class HandbotProbe : public Controller {
   HandbotArmsActuator* arms = nullptr;
   HandbotGrippersActuator* grippers = nullptr;
   RopeLauncherActuator* rope = nullptr;
+  HandbotFansActuator* fans = nullptr;
   const HandbotHeadSensor* head_sensor = nullptr;
   const HandbotArmsSensor* arms_sensor = nullptr;
   const HandbotGrippersSensor* grippers_sensor = nullptr;
@@ -53,8 +56,8 @@ constexpr int kLeft = HandbotArmsActuator::kLeft;
 std::string Scene(const std::string& arena, const std::string& handbot_attributes = "") {
   return "<colony><framework><experiment length=\"100\" ticks_per_second=\"10\" random_seed=\"3\"/></framework>"
          "<controllers><handbot_probe id=\"hp\"><actuators><handbot_head/><handbot_arms/><handbot_grippers/>"
-         "<rope_launcher/></actuators><sensors><handbot_head/><handbot_arms/><handbot_grippers/></sensors>"
-         "</handbot_probe></controllers><arena size=\"3,3,3\" center=\"0,0,1.5\"><ceiling height=\"2.5\"/>"
+         "<rope_launcher/><handbot_fans/></actuators><sensors><handbot_head/><handbot_arms/><handbot_grippers/>"
+         "</sensors></handbot_probe></controllers><arena size=\"3,3,3\" center=\"0,0,1.5\"><ceiling height=\"2.5\"/>"
          "<handbot id=\"h\" " + handbot_attributes + "><body position=\"0,0,0\"/><controller config=\"hp\"/></handbot>" +
          arena + "</arena><physics_engines><dynamics3d id=\"d3d\" stepper=\"worldstep\"/></physics_engines></colony>";
 }
@@ -167,6 +170,27 @@ TEST(Handbot, OpeningTheClawsLetsGo) {
   EXPECT_NEAR(p.grippers_sensor->aperture(HandbotGrippersActuator::kRight), 0.0, 1e-9);
 }
 
+double YawOfRobot(Simulation& sim) { return YawOf(sim.space().pose(sim.space().Find("h").index).orientation); }
+
+TEST(Handbot, TheFansTurnTheHangingRobotAndHoldAHeading) {
+  auto sim = LoadXml(Scene(""));
+  HandbotProbe& p = Probe(*sim);
+  p.rope->Launch();
+  RunFor(*sim, 0.5);
+  p.rope->SetClimbSpeed(0.1);
+  RunFor(*sim, 2);
+  p.rope->SetClimbSpeed(0);
+  EXPECT_NEAR(YawOfRobot(*sim), 0.0, 1e-3);
+  p.fans->SetTorque(0.05);
+  RunFor(*sim, 2);
+  const double turned = YawOfRobot(*sim);
+  EXPECT_GT(turned, 0.2) << "a steady torque spins it up";
+  p.fans->HoldHeading(-0.5);
+  RunFor(*sim, 20);
+  EXPECT_NEAR(YawOfRobot(*sim), -0.5, 0.05);
+  EXPECT_LT(std::abs(sim->space().twist(sim->space().Find("h").index).angular.z()), 0.02);
+}
+
 TEST(Handbot, CommandsBeyondWhatTheMotorsCanDoAreCappedWithAWarning) {
   auto sim = LoadXml(Scene(""));
   HandbotProbe& p = Probe(*sim);
@@ -174,10 +198,12 @@ TEST(Handbot, CommandsBeyondWhatTheMotorsCanDoAreCappedWithAWarning) {
   p.head->SetSpeed(10);
   p.head->SetRotation(3);
   p.arms->SetExtension(kLeft, 3);
+  p.fans->SetTorque(1);
   RunFor(*sim, 0.5);
   const std::string log = ::testing::internal::GetCapturedStderr();
   EXPECT_TRUE(Mentions(log, {"robot 'h'", "head speed 10 rad/s", "2.85"}));
   EXPECT_TRUE(Mentions(log, {"robot 'h'", "left arm 3 rad is outside [0, 1.5708]"}));
+  EXPECT_TRUE(Mentions(log, {"robot 'h'", "fan torque 1 N m", "0.05 N m"}));
   EXPECT_LT(p.head_sensor->velocity(), handbot::kHeadNoLoadSpeed + 1e-6);
 }
 
