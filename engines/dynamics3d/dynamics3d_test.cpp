@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "actuators/gripper/gripper_state.h"
 #include "actuators/manipulator/manipulator_state.h"
 #include "core/registry.h"
 #include "tests/test_util.h"
@@ -518,6 +519,42 @@ TEST(Dynamics3d, ObjectsFallAndRestOnTheFloorAndFixedOnesStayPut) {
   EXPECT_EQ(PositionOf(*sim, "f"), Vec3(-0.5, 0, 0.2)) << "a fixed cylinder floats where it was put";
   EXPECT_NEAR(PositionOf(*sim, "q").z(), 0.32, 0.002) << "the cube landed on the fixed shelf";
   EXPECT_LT(sim->space().twist(SlotOf(*sim, "b")).linear.norm(), 1e-3);
+}
+
+// The foot-bot's gripper in 3D: closing on a grounded hand-bot's docking
+// ring, it drags the hand-bot; letting go leaves it.
+TEST(Dynamics3d, AFootBotGripsAHandBotsRingAndDragsIt) {
+  auto sim = testing::LoadXml(Scene(Robot("f", -0.3, 0) +
+                                        "<handbot id=\"h\"><body position=\"-0.12,0,0\" orientation=\"180,0,0\"/>"
+                                        "<controller config=\"idle\"/></handbot>",
+                                    Engine("stepper=\"worldstep\""), "4,2,1"));
+  GripperState& g = *sim->space().Get<GripperState>(SlotOf(*sim, "f"));
+  RunFor(*sim, 0.5);
+  g.want_grip = true;
+  RunFor(*sim, 0.2);
+  ASSERT_TRUE(g.holding());
+  EXPECT_EQ(g.held, SlotOf(*sim, "h"));
+  const Vec3 start = PositionOf(*sim, "h");
+  SetWheels(*sim, "f", -0.1, -0.1);
+  RunFor(*sim, 6);
+  SetWheels(*sim, "f", 0, 0);
+  RunFor(*sim, 0.5);
+  EXPECT_LT(PositionOf(*sim, "h").x() - start.x(), -0.5) << "dragged backwards more than 0.5 m";
+  EXPECT_NEAR(PositionOf(*sim, "h").x() - PositionOf(*sim, "f").x(), start.x() + 0.3, 0.01) << "still at the jaws";
+  EXPECT_LT(TiltOf(*sim, "h"), 0.05) << "upright";
+  g.want_grip = false;
+  RunFor(*sim, 0.2);
+  EXPECT_FALSE(g.holding());
+  const Vec3 left = PositionOf(*sim, "h");
+  SetWheels(*sim, "f", -0.1, -0.1);
+  RunFor(*sim, 2);
+  EXPECT_LT((PositionOf(*sim, "h") - left).norm(), 0.01) << "let go, it stays";
+  // Nothing in front of the jaws: nothing held.
+  auto alone = testing::LoadXml(Scene(Robot("f", 0, 0)));
+  GripperState& ga = *alone->space().Get<GripperState>(SlotOf(*alone, "f"));
+  ga.want_grip = true;
+  RunFor(*alone, 0.5);
+  EXPECT_FALSE(ga.holding());
 }
 
 TEST(Dynamics3d, TheCeilingIsSolid) {

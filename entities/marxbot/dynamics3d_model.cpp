@@ -4,14 +4,16 @@
 // the motors' torque; with manipulator="true" a head on a piston joint in
 // front of the body (slides up and down, turns about its vertical axis),
 // both motions motor-driven at the ManipulatorState's speeds, carrying a
-// magnet on its outer face. engines/dynamics3d/README.md gives the figures
-// and their reasons.
+// magnet on its outer face; and the gripper on its docking ring, which
+// fixes what it closes on (another robot's ring, an object) to the chassis.
+// engines/dynamics3d/README.md gives the figures and their reasons.
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string_view>
 #include <vector>
 
+#include "actuators/gripper/gripper_state.h"
 #include "actuators/manipulator/manipulator_state.h"
 #include "core/space.h"
 #include "engines/dynamics3d/dynamics3d.h"
@@ -135,6 +137,7 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
     if (s >= robots_.size() || !robots_[s]) return;
     Robot& r = *robots_[s];
     r.magnet.Release(engine);
+    Ungrip(engine, s, r);
     if (r.head) {
       dJointDestroy(r.piston);
       dBodyDestroy(r.head);
@@ -144,8 +147,9 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
   }
 
   void Release(Engine& engine, uint32_t holder, uint32_t held) override {
-    (void)held;  // the magnet holds one thing
-    robots_[holder]->magnet.Release(engine);
+    Robot& r = *robots_[holder];
+    if (r.magnet.held() == held) r.magnet.Release(engine);
+    if (r.gripped == held) Ungrip(engine, holder, r);
   }
 
   void BeforeStep(Engine& engine, double dt) override {
@@ -154,6 +158,7 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
       Robot& r = *robots_[s];
       SetTreads(space, s, r);
       if (r.head) UpdateMagnet(engine, space, s, r, dt);
+      if (GripperState* g = space.Get<GripperState>(s)) UpdateGrip(engine, s, r, *g);
     }
   }
 
@@ -178,6 +183,7 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
       DriveState& d = *space.drive(s);
       d.travelled_left = (std::isfinite(d.left) ? d.left : 0.0) * dt;
       d.travelled_right = (std::isfinite(d.right) ? d.right : 0.0) * dt;
+      if (GripperState* g = space.Get<GripperState>(s)) g->held = r.gripped;
       if (!r.head) continue;
       ManipulatorState& m = *space.Get<ManipulatorState>(s);
       m.elevation = Elevation(r);
@@ -214,7 +220,50 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
     dJointID piston = nullptr;
     double elevation0 = 0, rotation0 = 0;  // joint positions when the joints were made
     Magnet magnet;
+    // Gripper: the joint fixing what it holds to the chassis.
+    dJointID grip = nullptr;
+    uint32_t gripped = kNone;
   };
+
+  // Releases what the gripper no longer wants to hold; closes on what is in
+  // front of the jaws when it wants to hold something: the lowest-slot
+  // movable thing at the docking ring's height within reach, probed at four
+  // points out to the reach, nearest first (as in dynamics2d).
+  static void UpdateGrip(Engine& engine, uint32_t s, Robot& r, GripperState& g) {
+    if (!g.want_grip) {
+      Ungrip(engine, s, r);
+      return;
+    }
+    if (r.grip) return;
+    dBodyID chassis = engine.BodyOf(s);
+    const Quat q = BodyQuat(chassis);
+    const Space& space = engine.entities();
+    const Pose& pose = space.pose(s);
+    const double radius = space.geometry(s).radius;
+    const Vec3 dir = q * Vec3(std::cos(g.turret), std::sin(g.turret), 0);
+    const Vec3 ring = pose.position + q * Vec3(0, 0, marxbot::kLedRingElevation);
+    for (int step = 1; step <= 4; ++step) {
+      const Vec3 p = ring + (radius + g.reach * step / 4) * dir;
+      Engine::Touch touch;
+      if (!engine.TouchAt(p, 0.002, s, touch) || !touch.body || touch.owner == kNone) continue;
+      if (engine.HolderOf(touch.owner) != kNone) continue;  // held by something else
+      r.grip = dJointCreateFixed(engine.world(), nullptr);
+      dJointAttach(r.grip, chassis, touch.body);
+      dJointSetFixed(r.grip);
+      r.gripped = touch.owner;
+      engine.SetHolder(touch.owner, s);
+      return;
+    }
+  }
+
+  static void Ungrip(Engine& engine, uint32_t s, Robot& r) {
+    (void)s;
+    if (!r.grip) return;
+    dJointDestroy(r.grip);
+    r.grip = nullptr;
+    if (engine.HolderOf(r.gripped) != kNone) engine.SetHolder(r.gripped, kNone);
+    r.gripped = kNone;
+  }
 
   // The commanded wheel speeds ask for forwards speed (l + r) / 2 and turn
   // rate (r - l) / wheel_base; the treads at y = +-treel_y give exactly that.
@@ -268,9 +317,9 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
 
 COLONY_REGISTER_PHYSICS_MODEL(MarxbotDynamics3dModel, "dynamics3d:marxbot",
                               "one body on two treels of two wheels each, whose treads move at the wheel speeds "
-                              "(torque-limited, slip); with manipulator=\"true\" a motor-driven head carrying a "
-                              "magnet",
-                              (std::vector<std::string>{"drive", "manipulator"}));
+                              "(torque-limited, slip); the gripper fixes what it closes on to the body; with "
+                              "manipulator=\"true\" a motor-driven head carrying a magnet",
+                              (std::vector<std::string>{"drive", "manipulator", "gripper"}));
 
 }  // namespace
 }  // namespace colony
