@@ -209,7 +209,10 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
       // A grasped thing pulled harder than the claws hold slips out.
       const double limit = space.Get<HandbotArmsState>(s)->holding_limit;
       for (int k = 0; k < 2; ++k) {
-        if (r.grasp[k] && ToVec(r.grasp_feedback[k].f1).norm() > limit) LetGo(engine, r, k);
+        if (r.grasp[k] && ToVec(r.grasp_feedback[k].f1).norm() > limit) {
+          LetGo(engine, r, k);
+          r.slipped[k] = true;  // the claws close on nothing until they open again
+        }
       }
       if (!r.attached) continue;
       r.tension = r.rope_joint ? std::max(0.0, ToVec(r.rope_feedback.f1).dot(r.normal)) : 0.0;
@@ -309,6 +312,7 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     dJointID grasp[2] = {};
     dJointFeedback grasp_feedback[2] = {};
     uint32_t held[2] = {HandbotArmsState::kNothing, HandbotArmsState::kNothing};
+    bool slipped[2] = {false, false};  // a grasped thing slipped out; the claws close on nothing until reopened
     std::array<Joint*, 5> joints() { return {&head_joint, &arm_joint[0], &arm_joint[1], &wrist_joint[0], &wrist_joint[1]}; }
   };
 
@@ -430,15 +434,16 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     HandbotArmsState::Claws& c = arms.claws[k];
     const double target = std::clamp(std::isfinite(c.target) ? c.target : c.aperture, 0.0, M_PI / 2);
     if (r.grasp[k] && target > kGraspAperture + 1e-9) LetGo(engine, r, k);
+    if (target > kGraspAperture + 1e-9) r.slipped[k] = false;
     const double step = c.speed * dt;
     double next = c.aperture + std::clamp(target - c.aperture, -step, step);
     if (r.grasp[k]) next = std::max(next, kGraspAperture);
-    if (!r.grasp[k] && next < kGraspAperture && c.aperture >= kGraspAperture - 1e-9) {
+    if (!r.grasp[k] && !r.slipped[k] && next < kGraspAperture && c.aperture >= kGraspAperture - 1e-9) {
       // The claws reach an object's thickness: is there one between them?
       const Quat q = BodyQuat(r.gripper[k]);
       const Vec3 centre = BodyPos(r.gripper[k]) + q * Vec3(0.5 * handbot::kGripperLength + 0.5 * handbot::kClawReach, 0, 0);
       Engine::Touch touch;
-      if (engine.TouchAt(centre, 0.5 * handbot::kClawReach, s, touch) && touch.owner != r.held[1 - k]) {
+      if (engine.TouchAt(centre, 0.5 * handbot::kClawReach, s, touch)) {
         r.grasp[k] = dJointCreateFixed(engine.world(), nullptr);
         dJointAttach(r.grasp[k], r.gripper[k], touch.body);
         dJointSetFixed(r.grasp[k]);

@@ -151,6 +151,18 @@ TEST(Handbot, AGripperHoldsABookAsTheRobotClimbsAndASixKiloWeightSlipsOut) {
   }
 }
 
+TEST(Handbot, BothGrippersHoldOneBoard) {
+  // The board's face 0.325 m ahead: the grippers' tips reach 0.335 m.
+  auto sim = LoadXml(Scene("<box id=\"board\" size=\"0.04,0.6,0.9\"><body position=\"0.345,0,0\"/></box>"));
+  HandbotProbe& p = Probe(*sim);
+  for (int k = 0; k < 2; ++k) p.arms->SetExtension(k, M_PI / 2);
+  RunFor(*sim, 1.5);
+  for (int k = 0; k < 2; ++k) p.grippers->Close(k);
+  RunFor(*sim, 2);
+  EXPECT_TRUE(p.grippers_sensor->holding(0));
+  EXPECT_TRUE(p.grippers_sensor->holding(1));
+}
+
 TEST(Handbot, OpeningTheClawsLetsGo) {
   auto sim = LoadXml(Scene(Shelf(0.3)));
   HandbotProbe& p = Probe(*sim);
