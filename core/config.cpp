@@ -104,12 +104,14 @@ static bool CheckRange(const ConfigNode& node, std::string_view attribute, std::
   return true;
 }
 
-double ConfigNode::GetDouble(std::string_view attribute, double fallback, const Range& range) const {
+double ConfigNode::GetDouble(std::string_view attribute, double fallback,
+                             const Range& range) const {
   const char* raw = Raw(attribute);
   if (!raw) return fallback;
   double v = 0;
   if (!ParseFiniteDouble(raw, v)) {
-    Error(attribute, raw, "'" + std::string(raw) + "' is not a finite number; accepted: " + range.Describe());
+    Error(attribute, raw,
+          "'" + std::string(raw) + "' is not a finite number; accepted: " + range.Describe());
     return fallback;
   }
   return CheckRange(*this, attribute, raw, v, range) ? v : fallback;
@@ -135,7 +137,8 @@ int64_t ConfigNode::GetInt(std::string_view attribute, int64_t fallback, int64_t
   const long long v = std::strtoll(begin, &end, 10);
   while (end != begin && *end == ' ') ++end;
   if (*begin == '\0' || end == begin || *end != '\0' || errno == ERANGE) {
-    Error(attribute, raw, "'" + std::string(raw) + "' is not a whole number; accepted: " + accepted);
+    Error(attribute, raw,
+          "'" + std::string(raw) + "' is not a whole number; accepted: " + accepted);
     return fallback;
   }
   if (v < min || v > max) {
@@ -147,7 +150,8 @@ int64_t ConfigNode::GetInt(std::string_view attribute, int64_t fallback, int64_t
 
 int64_t ConfigNode::RequireInt(std::string_view attribute, int64_t min, int64_t max) const {
   if (!Has(attribute)) {
-    Error(attribute, "", "required attribute is missing; accepted: " + DescribeWholeRange(min, max));
+    Error(attribute, "",
+          "required attribute is missing; accepted: " + DescribeWholeRange(min, max));
     return min;
   }
   return GetInt(attribute, min, min, max);
@@ -183,7 +187,8 @@ std::array<double, 3> ConfigNode::GetTriple(std::string_view attribute,
   return out;
 }
 
-std::array<double, 3> ConfigNode::RequireTriple(std::string_view attribute, const Range& range) const {
+std::array<double, 3> ConfigNode::RequireTriple(std::string_view attribute,
+                                                const Range& range) const {
   if (!Has(attribute)) {
     Error(attribute, "", "required attribute is missing; accepted: \"x,y,z\"");
     return {0, 0, 0};
@@ -191,7 +196,8 @@ std::array<double, 3> ConfigNode::RequireTriple(std::string_view attribute, cons
   return GetTriple(attribute, {0, 0, 0}, range);
 }
 
-std::array<double, 2> ConfigNode::GetPair(std::string_view attribute, std::array<double, 2> fallback,
+std::array<double, 2> ConfigNode::GetPair(std::string_view attribute,
+                                          std::array<double, 2> fallback,
                                           const Range& range) const {
   const char* raw = Raw(attribute);
   if (!raw) return fallback;
@@ -200,7 +206,8 @@ std::array<double, 2> ConfigNode::GetPair(std::string_view attribute, std::array
   bool ok = parts.size() == 2;
   for (size_t i = 0; ok && i < 2; ++i) ok = ParseFiniteDouble(parts[i], out[i]);
   if (!ok) {
-    Error(attribute, raw, "'" + std::string(raw) + "' is not two finite numbers; accepted: \"x,y\"");
+    Error(attribute, raw,
+          "'" + std::string(raw) + "' is not two finite numbers; accepted: \"x,y\"");
     return fallback;
   }
   for (double v : out) {
@@ -209,7 +216,8 @@ std::array<double, 2> ConfigNode::GetPair(std::string_view attribute, std::array
   return out;
 }
 
-std::array<double, 2> ConfigNode::RequirePair(std::string_view attribute, const Range& range) const {
+std::array<double, 2> ConfigNode::RequirePair(std::string_view attribute,
+                                              const Range& range) const {
   if (!Has(attribute)) {
     Error(attribute, "", "required attribute is missing; accepted: \"x,y\"");
     return {0, 0};
@@ -217,7 +225,8 @@ std::array<double, 2> ConfigNode::RequirePair(std::string_view attribute, const 
   return GetPair(attribute, {0, 0}, range);
 }
 
-std::string ConfigNode::GetChoice(std::string_view attribute, const std::vector<std::string>& choices,
+std::string ConfigNode::GetChoice(std::string_view attribute,
+                                  const std::vector<std::string>& choices,
                                   std::string_view fallback) const {
   const char* raw = Raw(attribute);
   if (!raw) return std::string(fallback);
@@ -271,8 +280,8 @@ void ConfigNode::CheckAttributes(const std::vector<std::string>& allowed) const 
     std::string message = "unknown attribute";
     const std::string guess = DidYouMean(a->Name(), allowed);
     if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
-    message += allowed.empty() ? "; this element takes no attributes"
-                               : "; accepted: " + Join(allowed);
+    message +=
+        allowed.empty() ? "; this element takes no attributes" : "; accepted: " + Join(allowed);
     Error(a->Name(), a->Value(), message);
   }
 }
@@ -294,8 +303,9 @@ void ConfigNode::CheckChildren(const std::vector<std::string>& allowed) const {
 void ConfigNode::CheckAtMostOne(std::string_view name) const {
   const auto items = Children(name);
   for (size_t i = 1; i < items.size(); ++i) {
-    items[i].ElementError("<" + std::string(name) + "> given more than once inside <" + this->name() +
-                          "> (first at line " + std::to_string(items[0].line()) + ")");
+    items[i].ElementError("<" + std::string(name) + "> given more than once inside <" +
+                          this->name() + "> (first at line " + std::to_string(items[0].line()) +
+                          ")");
   }
 }
 

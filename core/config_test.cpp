@@ -3,11 +3,12 @@
 // ConfigNode the loader made for its element, so the getters run on a real
 // parsed element with its file and line. Suites are named core_test_* so
 // `ctest -R core_test` selects them.
+#include "core/config.h"
+
 #include <functional>
 #include <string>
 #include <vector>
 
-#include "core/config.h"
 #include "core/entity_type.h"
 #include "tests/test_util.h"
 
@@ -35,7 +36,8 @@ class ProbeType : public EntityType {
 
 std::vector<AttributeDoc> ProbeAttributes() {
   std::vector<AttributeDoc> docs;
-  for (const char* name : {"text", "number", "count", "flag", "triple", "mode", "tint", "blank", "txet"}) {
+  for (const char* name :
+       {"text", "number", "count", "flag", "triple", "mode", "tint", "blank", "txet"}) {
     docs.push_back({name, "anything", "", "probe attribute"});
   }
   return docs;
@@ -47,7 +49,8 @@ COLONY_REGISTER_ENTITY(ProbeType, "config_probe", "core_test: hands its element 
 // Loads an experiment whose arena holds `element` (a <config_probe id="p">
 // on line 2), runs `inspect` on its ConfigNode and returns every problem the
 // calls recorded, one per line ("" if none).
-std::string Inspect(const std::string& element, const std::function<void(const ConfigNode&)>& inspect) {
+std::string Inspect(const std::string& element,
+                    const std::function<void(const ConfigNode&)>& inspect) {
   g_inspect = &inspect;
   std::string problems;
   try {
@@ -61,7 +64,9 @@ std::string Inspect(const std::string& element, const std::function<void(const C
   return problems;
 }
 
-bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 TEST(core_test_config, NodeKnowsItsNameLineFileAndLabel) {
   std::string name, label, file;
@@ -101,11 +106,14 @@ TEST(core_test_config, GetStringAndRequireString) {
   EXPECT_EQ(fallback, "none");
   EXPECT_EQ(required, "hello world");
 
-  const std::string problems = Inspect("<config_probe id=\"p\" blank=\"\"/>", [&](const ConfigNode& n) {
-    n.RequireString("text");
-    n.RequireString("blank");
-  });
-  EXPECT_TRUE(Contains(problems, "<string>:2: <config_probe id=\"p\"> attribute 'text': required attribute is missing"))
+  const std::string problems =
+      Inspect("<config_probe id=\"p\" blank=\"\"/>", [&](const ConfigNode& n) {
+        n.RequireString("text");
+        n.RequireString("blank");
+      });
+  EXPECT_TRUE(Contains(
+      problems,
+      "<string>:2: <config_probe id=\"p\"> attribute 'text': required attribute is missing"))
       << problems;
   EXPECT_TRUE(Contains(problems, "attribute 'blank': must not be empty")) << problems;
 }
@@ -127,11 +135,12 @@ TEST(core_test_config, GetDoubleReadsFiniteNumbersAndFallsBack) {
 TEST(core_test_config, GetDoubleRejectsWhatIsNotAFiniteNumber) {
   for (const std::string bad : {"abc", "", "1.5m", "1,5", "inf", "-inf", "nan", "1e999"}) {
     double v = 0;
-    const std::string problems = Inspect("<config_probe id=\"p\" number=\"" + bad + "\"/>",
-                                         [&](const ConfigNode& n) { v = n.GetDouble("number", 7); });
+    const std::string problems =
+        Inspect("<config_probe id=\"p\" number=\"" + bad + "\"/>",
+                [&](const ConfigNode& n) { v = n.GetDouble("number", 7); });
     EXPECT_EQ(v, 7) << "a bad value gives the fallback: " << bad;
-    EXPECT_TRUE(Contains(problems, "<string>:2: <config_probe id=\"p\"> attribute 'number': '" + bad +
-                                       "' is not a finite number; accepted: a finite number"))
+    EXPECT_TRUE(Contains(problems, "<string>:2: <config_probe id=\"p\"> attribute 'number': '" +
+                                       bad + "' is not a finite number; accepted: a finite number"))
         << problems;
   }
 }
@@ -156,22 +165,26 @@ TEST(core_test_config, GetDoubleChecksRanges) {
   };
   for (const auto& c : cases) {
     double v = 0;
-    const std::string problems = Inspect("<config_probe id=\"p\" number=\"" + c.value + "\"/>",
-                                         [&](const ConfigNode& n) { v = n.GetDouble("number", -5, c.range); });
+    const std::string problems =
+        Inspect("<config_probe id=\"p\" number=\"" + c.value + "\"/>",
+                [&](const ConfigNode& n) { v = n.GetDouble("number", -5, c.range); });
     if (c.ok) {
       EXPECT_EQ(problems, "") << c.value;
       EXPECT_EQ(v, std::stod(c.value));
     } else {
       EXPECT_EQ(v, -5) << c.value;
-      EXPECT_TRUE(Contains(problems, "'" + c.value + "' is out of range; " + c.accepted)) << problems;
+      EXPECT_TRUE(Contains(problems, "'" + c.value + "' is out of range; " + c.accepted))
+          << problems;
     }
   }
 }
 
 TEST(core_test_config, RequireDoubleNamesWhatIsAccepted) {
-  const std::string problems =
-      Inspect("<config_probe id=\"p\"/>", [&](const ConfigNode& n) { n.RequireDouble("number", Range::Positive()); });
-  EXPECT_TRUE(Contains(problems, "attribute 'number': required attribute is missing; accepted: a number > 0"))
+  const std::string problems = Inspect("<config_probe id=\"p\"/>", [&](const ConfigNode& n) {
+    n.RequireDouble("number", Range::Positive());
+  });
+  EXPECT_TRUE(Contains(problems,
+                       "attribute 'number': required attribute is missing; accepted: a number > 0"))
       << problems;
 }
 
@@ -204,18 +217,21 @@ TEST(core_test_config, GetIntRejectsFractionsGarbageAndOutOfRange) {
   };
   for (const auto& c : cases) {
     int64_t v = 0;
-    const std::string problems = Inspect("<config_probe id=\"p\" count=\"" + c.value + "\"/>",
-                                         [&](const ConfigNode& n) { v = n.GetInt("count", 5, 0, 256); });
+    const std::string problems =
+        Inspect("<config_probe id=\"p\" count=\"" + c.value + "\"/>",
+                [&](const ConfigNode& n) { v = n.GetInt("count", 5, 0, 256); });
     EXPECT_EQ(v, 5) << c.value;
     EXPECT_TRUE(Contains(problems, "attribute 'count': " + c.problem)) << problems;
   }
   // Unbounded above: described as such, not with INT64_MAX.
-  const std::string problems =
-      Inspect("<config_probe id=\"p\" count=\"-2\"/>", [&](const ConfigNode& n) { n.GetInt("count", 0); });
+  const std::string problems = Inspect("<config_probe id=\"p\" count=\"-2\"/>",
+                                       [&](const ConfigNode& n) { n.GetInt("count", 0); });
   EXPECT_TRUE(Contains(problems, "accepted: a whole number >= 0")) << problems;
-  const std::string missing =
-      Inspect("<config_probe id=\"p\"/>", [&](const ConfigNode& n) { n.RequireInt("count", 1, 9); });
-  EXPECT_TRUE(Contains(missing, "required attribute is missing; accepted: a whole number in [1, 9]")) << missing;
+  const std::string missing = Inspect("<config_probe id=\"p\"/>",
+                                      [&](const ConfigNode& n) { n.RequireInt("count", 1, 9); });
+  EXPECT_TRUE(
+      Contains(missing, "required attribute is missing; accepted: a whole number in [1, 9]"))
+      << missing;
 }
 
 TEST(core_test_config, GetBoolAcceptsOnlyTrueAndFalse) {
@@ -231,10 +247,11 @@ TEST(core_test_config, GetBoolAcceptsOnlyTrueAndFalse) {
   EXPECT_FALSE(f);
   EXPECT_TRUE(fallback);
   bool v = false;
-  const std::string problems =
-      Inspect("<config_probe id=\"p\" flag=\"yes\"/>", [&](const ConfigNode& n) { v = n.GetBool("flag", true); });
+  const std::string problems = Inspect("<config_probe id=\"p\" flag=\"yes\"/>",
+                                       [&](const ConfigNode& n) { v = n.GetBool("flag", true); });
   EXPECT_TRUE(v);
-  EXPECT_TRUE(Contains(problems, "attribute 'flag': 'yes' is not a boolean; accepted: true, false")) << problems;
+  EXPECT_TRUE(Contains(problems, "attribute 'flag': 'yes' is not a boolean; accepted: true, false"))
+      << problems;
 }
 
 TEST(core_test_config, GetTripleReadsThreeNumbers) {
@@ -250,17 +267,24 @@ TEST(core_test_config, GetTripleReadsThreeNumbers) {
 
   for (const std::string bad : {"1,2", "1,2,3,4", "1,x,3", "1,,3", "1,2,inf", ""}) {
     std::array<double, 3> v{};
-    const std::string problems = Inspect("<config_probe id=\"p\" triple=\"" + bad + "\"/>",
-                                         [&](const ConfigNode& n) { v = n.GetTriple("triple", {7, 8, 9}); });
+    const std::string problems =
+        Inspect("<config_probe id=\"p\" triple=\"" + bad + "\"/>", [&](const ConfigNode& n) {
+          v = n.GetTriple("triple", {7, 8, 9});
+        });
     EXPECT_EQ(v, (std::array<double, 3>{7, 8, 9})) << bad;
-    EXPECT_TRUE(Contains(problems, "attribute 'triple': '" + bad + "' is not three finite numbers; accepted: \"x,y,z\""))
+    EXPECT_TRUE(Contains(problems, "attribute 'triple': '" + bad +
+                                       "' is not three finite numbers; accepted: \"x,y,z\""))
         << problems;
   }
-  const std::string range = Inspect("<config_probe id=\"p\" triple=\"1,0,1\"/>",
-                                    [&](const ConfigNode& n) { n.GetTriple("triple", {}, Range::Positive()); });
+  const std::string range =
+      Inspect("<config_probe id=\"p\" triple=\"1,0,1\"/>",
+              [&](const ConfigNode& n) { n.GetTriple("triple", {}, Range::Positive()); });
   EXPECT_TRUE(Contains(range, "'1,0,1' is out of range; accepted: a number > 0")) << range;
-  const std::string missing = Inspect("<config_probe id=\"p\"/>", [&](const ConfigNode& n) { n.RequireTriple("triple"); });
-  EXPECT_TRUE(Contains(missing, "attribute 'triple': required attribute is missing; accepted: \"x,y,z\"")) << missing;
+  const std::string missing =
+      Inspect("<config_probe id=\"p\"/>", [&](const ConfigNode& n) { n.RequireTriple("triple"); });
+  EXPECT_TRUE(
+      Contains(missing, "attribute 'triple': required attribute is missing; accepted: \"x,y,z\""))
+      << missing;
 }
 
 TEST(core_test_config, GetChoiceSuggestsTheClosestChoice) {
@@ -275,11 +299,13 @@ TEST(core_test_config, GetChoiceSuggestsTheClosestChoice) {
   EXPECT_EQ(chosen, "gaussian");
   EXPECT_EQ(fallback, "constant");
   std::string v;
-  const std::string problems = Inspect("<config_probe id=\"p\" mode=\"gausian\"/>", [&](const ConfigNode& n) {
-    v = n.GetChoice("mode", choices, "uniform");
-  });
+  const std::string problems =
+      Inspect("<config_probe id=\"p\" mode=\"gausian\"/>",
+              [&](const ConfigNode& n) { v = n.GetChoice("mode", choices, "uniform"); });
   EXPECT_EQ(v, "uniform");
-  EXPECT_TRUE(Contains(problems, "attribute 'mode': 'gausian' is not accepted; accepted: uniform, gaussian, constant"))
+  EXPECT_TRUE(Contains(
+      problems,
+      "attribute 'mode': 'gausian' is not accepted; accepted: uniform, gaussian, constant"))
       << problems;
   EXPECT_TRUE(Contains(problems, "did you mean 'gaussian'?")) << problems;
 }
@@ -292,8 +318,8 @@ TEST(core_test_config, ParseColorNamesGreysAndComponents) {
   EXPECT_EQ(ParseColor("grey80"), ParseColor("gray80"));
   EXPECT_EQ(ParseColor("10,20,30"), (Color{10, 20, 30, 255}));
   EXPECT_EQ(ParseColor(" 10 , 20 , 30 , 40 "), (Color{10, 20, 30, 40}));
-  for (const char* bad : {"pinkish", "Red", "gray5", "gray100", "gray05", "256,0,0", "-1,0,0", "1,2", "1,2,3,4,5",
-                          "1.5,2,3", "a,b,c", ""}) {
+  for (const char* bad : {"pinkish", "Red", "gray5", "gray100", "gray05", "256,0,0", "-1,0,0",
+                          "1,2", "1,2,3,4,5", "1.5,2,3", "a,b,c", ""}) {
     EXPECT_FALSE(ParseColor(bad).has_value()) << bad;
   }
 }
@@ -309,11 +335,13 @@ TEST(core_test_config, GetColorReportsWhatIsAccepted) {
   EXPECT_EQ(named, (Color{0, 0, 255, 255}));
   EXPECT_EQ(fallback, (Color{1, 2, 3, 4}));
   Color bad;
-  const std::string problems = Inspect("<config_probe id=\"p\" tint=\"300,0,0\"/>", [&](const ConfigNode& n) {
-    bad = n.GetColor("tint", Color::White());
-  });
+  const std::string problems =
+      Inspect("<config_probe id=\"p\" tint=\"300,0,0\"/>",
+              [&](const ConfigNode& n) { bad = n.GetColor("tint", Color::White()); });
   EXPECT_EQ(bad, Color::White());
-  EXPECT_TRUE(Contains(problems, std::string("attribute 'tint': '300,0,0' is not a colour; accepted: ") + kColorAccepted))
+  EXPECT_TRUE(Contains(
+      problems,
+      std::string("attribute 'tint': '300,0,0' is not a colour; accepted: ") + kColorAccepted))
       << problems;
 }
 
@@ -347,37 +375,45 @@ TEST(core_test_config, ChildrenAndChild) {
 }
 
 TEST(core_test_config, CheckAttributesChildrenAndAtMostOne) {
-  const std::string problems = Inspect("<config_probe id=\"p\" txet=\"x\">\n<a/>\n<b/>\n<a/></config_probe>",
-                                       [&](const ConfigNode& n) {
-                                         n.CheckAttributes({"id", "text"});
-                                         n.CheckChildren({"a"});
-                                         n.CheckAtMostOne("a");
-                                       });
-  EXPECT_TRUE(Contains(problems, "<string>:2: <config_probe id=\"p\"> attribute 'txet': unknown attribute "
-                                 "(did you mean 'text'?); accepted: id, text"))
+  const std::string problems =
+      Inspect("<config_probe id=\"p\" txet=\"x\">\n<a/>\n<b/>\n<a/></config_probe>",
+              [&](const ConfigNode& n) {
+                n.CheckAttributes({"id", "text"});
+                n.CheckChildren({"a"});
+                n.CheckAtMostOne("a");
+              });
+  EXPECT_TRUE(Contains(problems,
+                       "<string>:2: <config_probe id=\"p\"> attribute 'txet': unknown attribute "
+                       "(did you mean 'text'?); accepted: id, text"))
       << problems;
-  EXPECT_TRUE(Contains(problems, "<string>:4: <b>: unknown element inside <config_probe>; accepted: a")) << problems
-      << "(no 'did you mean' between unrelated one-letter names)";
-  EXPECT_TRUE(Contains(problems, "<string>:5: <a>: <a> given more than once inside <config_probe> (first at line 3)"))
+  EXPECT_TRUE(
+      Contains(problems, "<string>:4: <b>: unknown element inside <config_probe>; accepted: a"))
+      << problems << "(no 'did you mean' between unrelated one-letter names)";
+  EXPECT_TRUE(
+      Contains(problems,
+               "<string>:5: <a>: <a> given more than once inside <config_probe> (first at line 3)"))
       << problems;
-  const std::string none = Inspect("<config_probe id=\"p\"><a/></config_probe>", [&](const ConfigNode& n) {
-    n.Child("a").CheckChildren({});
-    n.CheckAttributes({"id"});
-  });
+  const std::string none =
+      Inspect("<config_probe id=\"p\"><a/></config_probe>", [&](const ConfigNode& n) {
+        n.Child("a").CheckChildren({});
+        n.CheckAttributes({"id"});
+      });
   EXPECT_EQ(none, "");
-  const std::string takes_none =
-      Inspect("<config_probe id=\"p\"><a/></config_probe>", [&](const ConfigNode& n) { n.CheckChildren({}); });
-  EXPECT_TRUE(Contains(takes_none, "<a>: unknown element inside <config_probe>; it takes no child elements"))
+  const std::string takes_none = Inspect("<config_probe id=\"p\"><a/></config_probe>",
+                                         [&](const ConfigNode& n) { n.CheckChildren({}); });
+  EXPECT_TRUE(Contains(takes_none,
+                       "<a>: unknown element inside <config_probe>; it takes no child elements"))
       << takes_none;
 }
 
 TEST(core_test_config, EveryProblemOfOneNodeIsReportedTogether) {
   const std::string problems =
-      Inspect("<config_probe id=\"p\" number=\"x\" count=\"1.5\" flag=\"maybe\"/>", [&](const ConfigNode& n) {
-        n.GetDouble("number", 0);
-        n.GetInt("count", 0);
-        n.GetBool("flag", false);
-      });
+      Inspect("<config_probe id=\"p\" number=\"x\" count=\"1.5\" flag=\"maybe\"/>",
+              [&](const ConfigNode& n) {
+                n.GetDouble("number", 0);
+                n.GetInt("count", 0);
+                n.GetBool("flag", false);
+              });
   EXPECT_TRUE(Contains(problems, "attribute 'number'")) << problems;
   EXPECT_TRUE(Contains(problems, "attribute 'count'")) << problems;
   EXPECT_TRUE(Contains(problems, "attribute 'flag'")) << problems;
@@ -389,9 +425,12 @@ TEST(core_test_config, ErrorAndElementErrorFormat) {
     n.Error("number", "12", "too big; accepted: a number <= 10");
     n.ElementError("something is off");
   });
-  EXPECT_TRUE(Contains(problems, "<string>:2: <config_probe id=\"p\"> attribute 'number': too big; accepted: a number <= 10"))
+  EXPECT_TRUE(Contains(
+      problems,
+      "<string>:2: <config_probe id=\"p\"> attribute 'number': too big; accepted: a number <= 10"))
       << problems;
-  EXPECT_TRUE(Contains(problems, "<string>:2: <config_probe id=\"p\">: something is off")) << problems;
+  EXPECT_TRUE(Contains(problems, "<string>:2: <config_probe id=\"p\">: something is off"))
+      << problems;
 }
 
 TEST(core_test_config, ToParamsCarriesEveryAttribute) {
@@ -410,7 +449,8 @@ TEST(core_test_config, DiagnosticToString) {
             "f.xml:3: <box id=\"b\"> attribute 'size': bad; accepted: x");
   EXPECT_EQ((Diagnostic{"f.xml", 0, "", "", "", "empty"}).ToString(), "f.xml: empty");
   EXPECT_EQ((Diagnostic{"", 0, "", "", "", "no file"}).ToString(), "no file");
-  const ConfigError error(std::vector<Diagnostic>{{"a.xml", 1, "x", "", "", "one"}, {"a.xml", 2, "y", "", "", "two"}});
+  const ConfigError error(
+      std::vector<Diagnostic>{{"a.xml", 1, "x", "", "", "one"}, {"a.xml", 2, "y", "", "", "two"}});
   EXPECT_EQ(std::string(error.what()), "a.xml:1: <x>: one\na.xml:2: <y>: two");
   EXPECT_EQ(error.diagnostics().size(), 2u);
 }
@@ -458,7 +498,8 @@ TEST(core_test_config, DidYouMeanPicksTheClosestTypoOnly) {
   EXPECT_EQ(DidYouMean("marxbott", {"marxbot", "box", "cylinder"}), "marxbot");
   EXPECT_EQ(DidYouMean("bx", {"marxbot", "box", "cylinder"}), "box");
   // The closest wins over an earlier, farther one.
-  EXPECT_EQ(DidYouMean("ticks_per_secnd", {"ticks_per_seconds", "ticks_per_second"}), "ticks_per_second");
+  EXPECT_EQ(DidYouMean("ticks_per_secnd", {"ticks_per_seconds", "ticks_per_second"}),
+            "ticks_per_second");
   // Short names: a close one is suggested, a complete replacement is not.
   EXPECT_EQ(DidYouMean("b", {"a"}), "");
   EXPECT_EQ(DidYouMean("ab", {"cd"}), "");

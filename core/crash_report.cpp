@@ -48,23 +48,31 @@ class Line {
 
 const char* SignalMeaning(int s) {
   switch (s) {
-    case SIGSEGV: return "segmentation fault";
-    case SIGBUS: return "bus error";
-    case SIGFPE: return "arithmetic error";
-    case SIGILL: return "illegal instruction";
-    case SIGABRT: return "aborted";
-    default: return "signal";
+    case SIGSEGV:
+      return "segmentation fault";
+    case SIGBUS:
+      return "bus error";
+    case SIGFPE:
+      return "arithmetic error";
+    case SIGILL:
+      return "illegal instruction";
+    case SIGABRT:
+      return "aborted";
+    default:
+      return "signal";
   }
 }
 
 void OnCrash(int signal_number) {
   const RunningCode code = running;
   Line line;
-  line << "\ncolony: crashed with " << SignalName(signal_number) << " (" << SignalMeaning(signal_number) << ") ";
+  line << "\ncolony: crashed with " << SignalName(signal_number) << " ("
+       << SignalMeaning(signal_number) << ") ";
   if (code.kind) {
     line << "in " << code.kind << " '" << code.label << "'";
     if (code.robot) line << " of robot '" << code.robot << "'";
-    line << " at tick " << code.tick << " (library " << (code.library ? code.library : "built into Colony") << ")";
+    line << " at tick " << code.tick << " (library "
+         << (code.library ? code.library : "built into Colony") << ")";
   } else {
     line << "in Colony itself, not in a plugin; please report it";
   }
@@ -80,7 +88,9 @@ void OnStop(int signal_number) { stop_signal = signal_number; }
 
 }  // namespace
 
-RunningScope::RunningScope(const RunningCode& code) : previous_(running), current_(&running) { running = code; }
+RunningScope::RunningScope(const RunningCode& code) : previous_(running), current_(&running) {
+  running = code;
+}
 RunningScope::~RunningScope() { running = previous_; }
 
 void UseAlternateSignalStack() {
@@ -127,15 +137,24 @@ int StopSignal() { return stop_signal; }
 
 const char* SignalName(int s) {
   switch (s) {
-    case SIGINT: return "SIGINT";
-    case SIGTERM: return "SIGTERM";
-    case SIGHUP: return "SIGHUP";
-    case SIGSEGV: return "SIGSEGV";
-    case SIGBUS: return "SIGBUS";
-    case SIGFPE: return "SIGFPE";
-    case SIGILL: return "SIGILL";
-    case SIGABRT: return "SIGABRT";
-    default: return "a signal";
+    case SIGINT:
+      return "SIGINT";
+    case SIGTERM:
+      return "SIGTERM";
+    case SIGHUP:
+      return "SIGHUP";
+    case SIGSEGV:
+      return "SIGSEGV";
+    case SIGBUS:
+      return "SIGBUS";
+    case SIGFPE:
+      return "SIGFPE";
+    case SIGILL:
+      return "SIGILL";
+    case SIGABRT:
+      return "SIGABRT";
+    default:
+      return "a signal";
   }
 }
 

@@ -47,7 +47,8 @@ class InstanceStore {
   }
   void Remove(const void* interface) {
     for (auto& item : items_) {
-      if (static_cast<const void*>(static_cast<const typename Instance::Interface*>(&item)) == interface) {
+      if (static_cast<const void*>(static_cast<const typename Instance::Interface*>(&item)) ==
+          interface) {
         item.alive = false;
       }
     }

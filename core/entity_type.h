@@ -48,7 +48,8 @@ class RingDirections {
   }
 
  private:
-  std::deque<std::pair<const RingMount*, std::vector<Vec2>>> table_;  // a deque keeps the tables in place
+  std::deque<std::pair<const RingMount*, std::vector<Vec2>>>
+      table_;  // a deque keeps the tables in place
 };
 
 // Where a robot type carries its devices, by name ("proximity", "ground", "leds").
@@ -64,10 +65,11 @@ struct DeviceMounts {
 // made by a program, and handed to the simulation (Simulation::AddEntity).
 // A plain value: copy it to make more of the same entity.
 struct EntityDesc {
-  std::string type;        // the entity type's label or an alias ("marxbot", "foot-bot", "box")
-  Space::EntityInit init;  // id, pose, geometry, flags, colour, mass, components; init.type is set when added
+  std::string type;  // the entity type's label or an alias ("marxbot", "foot-bot", "box")
+  Space::EntityInit
+      init;  // id, pose, geometry, flags, colour, mass, components; init.type is set when added
   std::string controller;  // robots: the id of the controller configuration
-  int line = 0;            // of its element in the experiment file, for messages; 0: not from the file
+  int line = 0;  // of its element in the experiment file, for messages; 0: not from the file
 };
 
 class EntityType {

@@ -1,7 +1,8 @@
 // An experiment as values, between the experiment file and the simulation,
 // as MuJoCo separates reading its XML from compiling the model:
 //
-//   XML file (+ --set overrides) --ReadExperimentSpec--> ExperimentSpec --Simulation::Create--> Simulation
+//   XML file (+ --set overrides) --ReadExperimentSpec--> ExperimentSpec --Simulation::Create-->
+//   Simulation
 //
 // The reader (core/spec_reader.cpp) checks everything the file says that can
 // be checked without building anything: element and attribute names,
@@ -79,10 +80,10 @@ struct PluginSpec {
 
 // One element of <controllers>: a controller configuration robots name.
 struct ControllerSpec {
-  PluginSpec plugin;                        // the controller: its label and id
-  Params params;                            // the attributes of its <params>
-  std::vector<PluginSpec> sensors;          // <sensors>, in file order
-  std::vector<PluginSpec> actuators;        // <actuators>, in file order
+  PluginSpec plugin;                  // the controller: its label and id
+  Params params;                      // the attributes of its <params>
+  std::vector<PluginSpec> sensors;    // <sensors>, in file order
+  std::vector<PluginSpec> actuators;  // <actuators>, in file order
 };
 
 // One element of <physics_engines>.
@@ -110,12 +111,12 @@ struct DistributeDraw {
 // drawn pose where it fits (core/placement.h).
 struct DistributeSpec {
   DistributeDraw position, orientation;
-  int64_t quantity = 0;     // 1 .. kMaxDistributeQuantity
+  int64_t quantity = 0;      // 1 .. kMaxDistributeQuantity
   int64_t max_trials = 100;  // draws per entity before giving up
-  int64_t base_num = 0;     // entity i gets the id entity.init.id + (base_num + i)
-  EntityDesc entity;        // the template: its id is the ids' prefix; its pose is replaced by the draws
-  int line = 0;             // of <distribute>; it also names the block's random stream
-  int entity_line = 0;      // of its <entity>, for messages
+  int64_t base_num = 0;      // entity i gets the id entity.init.id + (base_num + i)
+  EntityDesc entity;  // the template: its id is the ids' prefix; its pose is replaced by the draws
+  int line = 0;       // of <distribute>; it also names the block's random stream
+  int entity_line = 0;  // of its <entity>, for messages
 };
 
 // <floor>.
@@ -158,13 +159,13 @@ struct ExperimentSpec {
   double dt = 0.1;            // seconds per tick: 1 / ticks_per_second
   uint64_t length_ticks = 0;  // 0: until the loop functions end the run
   uint64_t seed = 0;
-  int threads = 1;            // >= 1: 1 runs everything on the calling thread
+  int threads = 1;  // >= 1: 1 runs everything on the calling thread
 
   OutputConfig output;
-  std::vector<PluginSpec> media;            // <media>, in file order
-  std::vector<ControllerSpec> controllers;  // <controllers>, in file order
-  std::vector<EngineSpec> engines;          // <physics_engines>, in file order
-  std::vector<PluginSpec> renderers;        // <visualization>, in file order
+  std::vector<PluginSpec> media;             // <media>, in file order
+  std::vector<ControllerSpec> controllers;   // <controllers>, in file order
+  std::vector<EngineSpec> engines;           // <physics_engines>, in file order
+  std::vector<PluginSpec> renderers;         // <visualization>, in file order
   std::optional<PluginSpec> loop_functions;  // label from label="..."; node: <loop_functions>
   ArenaSpec arena;
 };

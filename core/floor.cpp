@@ -14,9 +14,10 @@ std::string Floor::LoadImage(const std::string& path, double min_x, double min_y
     return "cannot read PNG image '" + path + "': " + image.message;
   }
   if (static_cast<uint64_t>(image.width) * image.height > kMaxFloorImagePixels) {
-    const std::string message = "PNG image '" + path + "' is " + std::to_string(image.width) + " x " +
-                                std::to_string(image.height) + " pixels; accepted: at most " +
-                                std::to_string(kMaxFloorImagePixels) + " pixels (e.g. 16384 x 16384)";
+    const std::string message =
+        "PNG image '" + path + "' is " + std::to_string(image.width) + " x " +
+        std::to_string(image.height) + " pixels; accepted: at most " +
+        std::to_string(kMaxFloorImagePixels) + " pixels (e.g. 16384 x 16384)";
     png_image_free(&image);
     return message;
   }

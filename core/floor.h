@@ -15,7 +15,9 @@ namespace colony {
 struct Ditch {
   double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
   double depth = 0;
-  bool Contains(double x, double y) const { return x > min_x && x < max_x && y > min_y && y < max_y; }
+  bool Contains(double x, double y) const {
+    return x > min_x && x < max_x && y > min_y && y < max_y;
+  }
 };
 
 class Floor {

@@ -51,6 +51,8 @@ struct Twist {
 // The cell of a uniform grid of `n` cells holding `f` (a position in cell
 // units from the grid's start), clamped to [0, n - 1] before the conversion,
 // so that no position, far outside the grid or NaN, overflows an int.
-inline int ClampedCellIndex(double f, int n) { return f >= 1 ? (f < n ? static_cast<int>(f) : n - 1) : 0; }
+inline int ClampedCellIndex(double f, int n) {
+  return f >= 1 ? (f < n ? static_cast<int>(f) : n - 1) : 0;
+}
 
 }  // namespace colony

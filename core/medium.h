@@ -28,7 +28,8 @@ class Medium : public NamedSimulationBound {
   virtual void Update() = 0;
 };
 
-// COLONY_REGISTER_MEDIUM(MyMedium, "label", "summary", {{"attribute", "accepted", "default", "doc"}});
+// COLONY_REGISTER_MEDIUM(MyMedium, "label", "summary", {{"attribute", "accepted", "default",
+// "doc"}});
 #define COLONY_REGISTER_MEDIUM(CLASS, LABEL, SUMMARY, ...)                               \
   COLONY_REGISTER_PLUGIN_(::colony::Medium, ::colony::PluginKind::kMedium, CLASS, LABEL, \
                           "default", SUMMARY, __VA_ARGS__)

@@ -8,7 +8,9 @@ std::vector<AttributeDoc> NoiseModel::Attributes(bool with_drop) {
       {"noise_std_dev", "a number >= 0", "0", "standard deviation of gaussian noise"},
       {"noise_range", "\"min,max\"", "0,0", "bounds of uniform noise"},
   };
-  if (with_drop) a.push_back({"drop_probability", "a number in [0, 1]", "0", "probability that a reading is lost (reads 0)"});
+  if (with_drop)
+    a.push_back({"drop_probability", "a number in [0, 1]", "0",
+                 "probability that a reading is lost (reads 0)"});
   return a;
 }
 
@@ -21,8 +23,10 @@ NoiseModel NoiseModel::Read(const ConfigNode& node) {
     const std::string raw = node.GetString("noise_range", "");
     const auto parts = SplitList(raw);
     double a = 0, b = 0;
-    if (parts.size() != 2 || !ParseFiniteDouble(parts[0], a) || !ParseFiniteDouble(parts[1], b) || a > b) {
-      node.Error("noise_range", raw, "'" + raw + "' is not accepted; accepted: \"min,max\" with min <= max");
+    if (parts.size() != 2 || !ParseFiniteDouble(parts[0], a) || !ParseFiniteDouble(parts[1], b) ||
+        a > b) {
+      node.Error("noise_range", raw,
+                 "'" + raw + "' is not accepted; accepted: \"min,max\" with min <= max");
     } else {
       m.min = a;
       m.max = b;

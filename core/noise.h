@@ -28,14 +28,19 @@ struct NoiseModel {
   // `value` with noise added.
   double Apply(double value, RandomStream& rng) const {
     switch (kind) {
-      case Kind::kNone: return value;
-      case Kind::kGaussian: return value + rng.Gaussian(0, std_dev);
-      case Kind::kUniform: return value + rng.Uniform(min, max);
+      case Kind::kNone:
+        return value;
+      case Kind::kGaussian:
+        return value + rng.Gaussian(0, std_dev);
+      case Kind::kUniform:
+        return value + rng.Uniform(min, max);
     }
     return value;
   }
   // Whether this reading is lost.
-  bool Drop(RandomStream& rng) const { return drop_probability > 0 && rng.Bernoulli(drop_probability); }
+  bool Drop(RandomStream& rng) const {
+    return drop_probability > 0 && rng.Bernoulli(drop_probability);
+  }
 };
 
 }  // namespace colony

@@ -41,18 +41,20 @@ std::string RunSummary::ToJson() const {
 
 std::string SummaryProblem(const std::string& json_text) {
   const auto j = nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
-  if (j.is_discarded()) return json_text.empty() ? "it is empty" : "it is not valid JSON (cut short?)";
+  if (j.is_discarded())
+    return json_text.empty() ? "it is empty" : "it is not valid JSON (cut short?)";
   if (!j.is_object()) return "it is not a JSON object";
   struct Key {
     const char* name;
     bool (nlohmann::json::*is)() const noexcept;
   };
-  for (const Key& k : {Key{"completed", &nlohmann::json::is_boolean}, Key{"ticks", &nlohmann::json::is_number},
-                       Key{"simulated_seconds", &nlohmann::json::is_number},
-                       Key{"wall_seconds", &nlohmann::json::is_number}, Key{"robots", &nlohmann::json::is_number},
-                       Key{"seed", &nlohmann::json::is_number},
-                       Key{"final_state_hash", &nlohmann::json::is_string},
-                       Key{"metrics", &nlohmann::json::is_object}}) {
+  for (const Key& k :
+       {Key{"completed", &nlohmann::json::is_boolean}, Key{"ticks", &nlohmann::json::is_number},
+        Key{"simulated_seconds", &nlohmann::json::is_number},
+        Key{"wall_seconds", &nlohmann::json::is_number}, Key{"robots", &nlohmann::json::is_number},
+        Key{"seed", &nlohmann::json::is_number},
+        Key{"final_state_hash", &nlohmann::json::is_string},
+        Key{"metrics", &nlohmann::json::is_object}}) {
     if (!j.contains(k.name)) return std::string("it has no \"") + k.name + "\"";
     if (!(j[k.name].*k.is)()) return std::string("its \"") + k.name + "\" has the wrong type";
   }
@@ -69,7 +71,8 @@ std::string FreshRunDir(const std::string& root, const std::string& experiment_f
   localtime_r(&now, &tm);
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
-  const std::string base = (fs::path(root) / (fs::path(experiment_file).stem().string() + "-" + stamp)).string();
+  const std::string base =
+      (fs::path(root) / (fs::path(experiment_file).stem().string() + "-" + stamp)).string();
   std::string dir = base;
   for (int k = 2; fs::exists(dir); ++k) dir = base + "-" + std::to_string(k);
   return dir;
@@ -77,8 +80,8 @@ std::string FreshRunDir(const std::string& root, const std::string& experiment_f
 
 const std::vector<std::string>& RunFolderFiles() {
   static const std::vector<std::string> files = {
-      "experiment.xml", "metrics.csv", "hashes.csv", "summary.json", "experiment.xml.tmp",
-      "summary.json.tmp", "frames"};
+      "experiment.xml",     "metrics.csv",      "hashes.csv", "summary.json",
+      "experiment.xml.tmp", "summary.json.tmp", "frames"};
   return files;
 }
 
@@ -90,24 +93,29 @@ void PrepareOutputFolder(const std::string& dir, const std::string& what, bool o
   }
   if (fs::is_directory(dir, ec)) {
     std::vector<std::string> found;
-    for (const auto& entry : fs::directory_iterator(dir, ec)) found.push_back(entry.path().filename().string());
+    for (const auto& entry : fs::directory_iterator(dir, ec))
+      found.push_back(entry.path().filename().string());
     std::sort(found.begin(), found.end());
     if (!found.empty() && !overwrite) {
       std::string list;
       for (size_t i = 0; i < found.size() && i < 5; ++i) list += (i ? ", " : "") + found[i];
       if (found.size() > 5) list += ", ... (" + std::to_string(found.size()) + " entries)";
-      throw OutputFolderInUse(what + " '" + dir + "' is not empty (it holds " + list +
-                              "); give --overwrite to replace a previous run's files there, or choose "
-                              "another folder");
+      throw OutputFolderInUse(
+          what + " '" + dir + "' is not empty (it holds " + list +
+          "); give --overwrite to replace a previous run's files there, or choose "
+          "another folder");
     }
     // --overwrite: remove only what a run writes.
     for (const auto& name : found) {
       const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
-      const bool ours = std::find(run_files.begin(), run_files.end(), name) != run_files.end() ||
-                        (png && std::find(run_files.begin(), run_files.end(), "*.png") != run_files.end());
+      const bool ours =
+          std::find(run_files.begin(), run_files.end(), name) != run_files.end() ||
+          (png && std::find(run_files.begin(), run_files.end(), "*.png") != run_files.end());
       if (!ours) continue;
       fs::remove_all(fs::path(dir) / name, ec);
-      if (ec) throw RuntimeFailure("cannot remove '" + (fs::path(dir) / name).string() + "': " + ec.message());
+      if (ec)
+        throw RuntimeFailure("cannot remove '" + (fs::path(dir) / name).string() +
+                             "': " + ec.message());
     }
   }
   fs::create_directories(dir, ec);
@@ -143,7 +151,8 @@ void RunOutput::AfterTick(Simulation& sim, bool last) {
       metrics_->Append(row_);
       header_written_ = true;
     }
-    std::snprintf(number, sizeof number, "%llu,%.6g", static_cast<unsigned long long>(sim.tick()), sim.time());
+    std::snprintf(number, sizeof number, "%llu,%.6g", static_cast<unsigned long long>(sim.tick()),
+                  sim.time());
     row_ = number;
     for (double v : m.values()) {
       std::snprintf(number, sizeof number, ",%.10g", v);
@@ -169,7 +178,8 @@ void RunOutput::Finish(const RunSummary& summary) {
 
 namespace {
 
-RunSummary Summarize(const Simulation& sim, double step_seconds, double robot_ticks, double wall_seconds) {
+RunSummary Summarize(const Simulation& sim, double step_seconds, double robot_ticks,
+                     double wall_seconds) {
   RunSummary s;
   s.ticks = sim.tick();
   s.simulated_seconds = sim.time();
@@ -181,7 +191,8 @@ RunSummary Summarize(const Simulation& sim, double step_seconds, double robot_ti
   s.robot_steps_per_second = step_seconds > 0 ? robot_ticks / step_seconds : 0;
   s.final_state_hash = sim.StateHash();
   const auto& m = sim.metrics();
-  for (size_t i = 0; i < m.columns().size(); ++i) s.metrics.emplace_back(m.columns()[i], m.values()[i]);
+  for (size_t i = 0; i < m.columns().size(); ++i)
+    s.metrics.emplace_back(m.columns()[i], m.values()[i]);
   return s;
 }
 
@@ -193,7 +204,9 @@ RunSummary RunToEnd(Simulation& sim, RunOutput* out, double load_seconds,
   double step_seconds = 0;
   double robot_ticks = 0;
   const auto start = Clock::now();
-  auto wall = [&] { return load_seconds + std::chrono::duration<double>(Clock::now() - start).count(); };
+  auto wall = [&] {
+    return load_seconds + std::chrono::duration<double>(Clock::now() - start).count();
+  };
   std::string stop_reason;
   try {
     // Renderers draw the initial state, then every tick's, between steps.

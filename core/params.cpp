@@ -38,7 +38,9 @@ std::string Params::GetString(std::string_view key, std::string_view fallback) c
 
 std::string Params::GetString(std::string_view key) const {
   const Entry* e = Find(key);
-  if (!e) throw ParamError(std::string(key), "", "required parameter '" + std::string(key) + "' is missing");
+  if (!e)
+    throw ParamError(std::string(key), "",
+                     "required parameter '" + std::string(key) + "' is missing");
   return e->value;
 }
 
@@ -49,8 +51,7 @@ static double ParseDouble(const std::string& key, const std::string& text, doubl
   const double v = std::strtod(begin, &end);
   while (end && *end == ' ') ++end;
   if (text.empty() || end == begin || *end != '\0' || errno == ERANGE || !std::isfinite(v)) {
-    throw ParamError(key, text,
-                     "parameter '" + key + "': '" + text + "' is not a finite number");
+    throw ParamError(key, text, "parameter '" + key + "': '" + text + "' is not a finite number");
   }
   if (v < min || v > max) {
     throw ParamError(key, text,
@@ -93,8 +94,9 @@ bool Params::GetBool(std::string_view key, bool fallback) const {
   if (!e) return fallback;
   if (e->value == "true" || e->value == "1") return true;
   if (e->value == "false" || e->value == "0") return false;
-  throw ParamError(e->key, e->value,
-                   "parameter '" + e->key + "': '" + e->value + "' is not a boolean; accepted: true, false");
+  throw ParamError(
+      e->key, e->value,
+      "parameter '" + e->key + "': '" + e->value + "' is not a boolean; accepted: true, false");
 }
 
 std::vector<std::string> Params::Unread() const {

@@ -13,12 +13,16 @@ namespace colony {
 namespace {
 
 bool HeightsOverlap(const Pose& a, const Geometry& ga, const Pose& b, const Geometry& gb) {
-  return a.position.z() < b.position.z() + gb.height() && b.position.z() < a.position.z() + ga.height();
+  return a.position.z() < b.position.z() + gb.height() &&
+         b.position.z() < a.position.z() + ga.height();
 }
 
 // Separating axis test on the four edge normals.
 bool RectsOverlap(const Rect& a, const Rect& b) {
-  const Vec2 axes[4] = {{a.cos_yaw, a.sin_yaw}, {-a.sin_yaw, a.cos_yaw}, {b.cos_yaw, b.sin_yaw}, {-b.sin_yaw, b.cos_yaw}};
+  const Vec2 axes[4] = {{a.cos_yaw, a.sin_yaw},
+                        {-a.sin_yaw, a.cos_yaw},
+                        {b.cos_yaw, b.sin_yaw},
+                        {-b.sin_yaw, b.cos_yaw}};
   for (const Vec2& axis : axes) {
     auto extent = [&](const Rect& r) {
       return r.half.x() * std::abs(axis.dot(Vec2(r.cos_yaw, r.sin_yaw))) +
@@ -33,8 +37,10 @@ bool RectsOverlap(const Rect& a, const Rect& b) {
 
 bool FootprintsOverlap(const Pose& a, const Geometry& ga, const Pose& b, const Geometry& gb) {
   if (!HeightsOverlap(a, ga, b, gb)) return false;
-  if (ga.shape == ShapeKind::kCylinder) return CircleOverlapsFootprint(a.position.head<2>(), ga.radius, b, gb);
-  if (gb.shape == ShapeKind::kCylinder) return CircleOverlapsFootprint(b.position.head<2>(), gb.radius, a, ga);
+  if (ga.shape == ShapeKind::kCylinder)
+    return CircleOverlapsFootprint(a.position.head<2>(), ga.radius, b, gb);
+  if (gb.shape == ShapeKind::kCylinder)
+    return CircleOverlapsFootprint(b.position.head<2>(), gb.radius, a, ga);
   return RectsOverlap(RectOf(a, ga), RectOf(b, gb));
 }
 
@@ -47,32 +53,36 @@ std::string OutsideArenaProblem(const Space::EntityInit& init, const Space& spac
   // Down to a ditch's bottom when the footprint lies within the ditch.
   double bottom = lo.z();
   for (const Ditch& d : space.floor().ditches()) {
-    if (p.x() - half.x() >= d.min_x - 1e-9 && p.x() + half.x() <= d.max_x + 1e-9 && p.y() - half.y() >= d.min_y - 1e-9 &&
-        p.y() + half.y() <= d.max_y + 1e-9) {
+    if (p.x() - half.x() >= d.min_x - 1e-9 && p.x() + half.x() <= d.max_x + 1e-9 &&
+        p.y() - half.y() >= d.min_y - 1e-9 && p.y() + half.y() <= d.max_y + 1e-9) {
       bottom = std::min(bottom, lo.z() - d.depth);
     }
   }
-  if (p.x() - half.x() < lo.x() - 1e-9 || p.x() + half.x() > hi.x() + 1e-9 || p.y() - half.y() < lo.y() - 1e-9 ||
-      p.y() + half.y() > hi.y() + 1e-9 || p.z() < bottom - 1e-9 || p.z() + init.geometry.height() > hi.z() + 1e-9) {
+  if (p.x() - half.x() < lo.x() - 1e-9 || p.x() + half.x() > hi.x() + 1e-9 ||
+      p.y() - half.y() < lo.y() - 1e-9 || p.y() + half.y() > hi.y() + 1e-9 ||
+      p.z() < bottom - 1e-9 || p.z() + init.geometry.height() > hi.z() + 1e-9) {
     std::ostringstream s;
-    s << "is outside the arena: its footprint spans x [" << p.x() - half.x() << ", " << p.x() + half.x() << "], y ["
-      << p.y() - half.y() << ", " << p.y() + half.y() << "], z [" << p.z() << ", " << p.z() + init.geometry.height()
-      << "] but the arena spans x [" << lo.x() << ", " << hi.x() << "], y [" << lo.y() << ", " << hi.y() << "], z ["
-      << lo.z() << ", " << hi.z() << "]";
+    s << "is outside the arena: its footprint spans x [" << p.x() - half.x() << ", "
+      << p.x() + half.x() << "], y [" << p.y() - half.y() << ", " << p.y() + half.y() << "], z ["
+      << p.z() << ", " << p.z() + init.geometry.height() << "] but the arena spans x [" << lo.x()
+      << ", " << hi.x() << "], y [" << lo.y() << ", " << hi.y() << "], z [" << lo.z() << ", "
+      << hi.z() << "]";
     return s.str();
   }
   if (space.ceiling() && p.z() + init.geometry.height() > space.ceiling()->z + 1e-9) {
     std::ostringstream s;
-    s << "reaches above the ceiling: its top is at z = " << p.z() + init.geometry.height() << " but the ceiling is at z = "
-      << space.ceiling()->z;
+    s << "reaches above the ceiling: its top is at z = " << p.z() + init.geometry.height()
+      << " but the ceiling is at z = " << space.ceiling()->z;
     return s.str();
   }
   return "";
 }
 
-const PlacementIndex::Item* PlacementIndex::FindOverlap(const Pose& pose, const Geometry& g, bool movable_only) const {
+const PlacementIndex::Item* PlacementIndex::FindOverlap(const Pose& pose, const Geometry& g,
+                                                        bool movable_only) const {
   auto overlap = [&](uint32_t k) {
-    return (!movable_only || items_[k].movable) && FootprintsOverlap(pose, g, items_[k].pose, items_[k].geometry);
+    return (!movable_only || items_[k].movable) &&
+           FootprintsOverlap(pose, g, items_[k].pose, items_[k].geometry);
   };
   const CellSpan span = SpanOf(pose, g);
   if (span.cells() > kMaxCellsPerItem) {
@@ -97,7 +107,8 @@ const PlacementIndex::Item* PlacementIndex::FindOverlap(const Pose& pose, const 
   return nullptr;
 }
 
-void PlacementIndex::Insert(const Pose& pose, const Geometry& g, const std::string& id, int line, bool movable) {
+void PlacementIndex::Insert(const Pose& pose, const Geometry& g, const std::string& id, int line,
+                            bool movable) {
   const uint32_t k = static_cast<uint32_t>(items_.size());
   items_.push_back({pose, g, id, line, movable});
   const CellSpan span = SpanOf(pose, g);
@@ -106,8 +117,7 @@ void PlacementIndex::Insert(const Pose& pose, const Geometry& g, const std::stri
     return;
   }
   for (int64_t cy = span.y0; cy <= span.y1; ++cy)
-    for (int64_t cx = span.x0; cx <= span.x1; ++cx)
-      cells_[Key(cx, cy)].push_back(k);
+    for (int64_t cx = span.x0; cx <= span.x1; ++cx) cells_[Key(cx, cy)].push_back(k);
 }
 
 // Placed footprints lie inside the arena (checked first), so cell indices
@@ -115,12 +125,14 @@ void PlacementIndex::Insert(const Pose& pose, const Geometry& g, const std::stri
 PlacementIndex::CellSpan PlacementIndex::SpanOf(const Pose& pose, const Geometry& g) const {
   const Vec2 half = FootprintHalfExtents(g, pose.orientation);
   const Vec3& p = pose.position;
-  return {Cell(p.x() - half.x()), Cell(p.y() - half.y()), Cell(p.x() + half.x()), Cell(p.y() + half.y())};
+  return {Cell(p.x() - half.x()), Cell(p.y() - half.y()), Cell(p.x() + half.x()),
+          Cell(p.y() + half.y())};
 }
 
 int64_t PlacementIndex::Cell(double v) const { return static_cast<int64_t>(std::floor(v / cell_)); }
 
-std::string PlacementProblem(const Space::EntityInit& init, const Space& space, const PlacementIndex& index) {
+std::string PlacementProblem(const Space::EntityInit& init, const Space& space,
+                             const PlacementIndex& index) {
   if (init.geometry.shape == ShapeKind::kNone) return "";
   if (std::string outside = OutsideArenaProblem(init, space); !outside.empty()) return outside;
   if (!(init.flags & kSolid)) return "";
@@ -150,7 +162,8 @@ Vec3 Draw(const DistributeDraw& draw, RandomStream& rng, size_t index) {
       const int64_t i = static_cast<int64_t>(index);
       const int64_t k[3] = {i % n[0], i / n[0] % n[1], i / (n[0] * n[1])};
       Vec3 v;
-      for (int c = 0; c < 3; ++c) v[c] = unit(a[c] + (static_cast<double>(k[c]) - (n[c] - 1) / 2.0) * b[c]);
+      for (int c = 0; c < 3; ++c)
+        v[c] = unit(a[c] + (static_cast<double>(k[c]) - (n[c] - 1) / 2.0) * b[c]);
       return v;
     }
     case DistributeDraw::Method::kConstant:
@@ -179,9 +192,10 @@ void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::str
     if (!placed) {
       diagnostics.Add(Diagnostic{
           file, block.entity_line, "entity", "max_trials", std::to_string(block.max_trials),
-          "could place only " + std::to_string(i) + " of " + std::to_string(block.quantity) + " entities: '" +
-              desc.init.id + "' found no free place in " + std::to_string(block.max_trials) + " trials (last try: it " +
-              last_problem + "); enlarge the <position> range or the arena, lower quantity, or raise max_trials"});
+          "could place only " + std::to_string(i) + " of " + std::to_string(block.quantity) +
+              " entities: '" + desc.init.id + "' found no free place in " +
+              std::to_string(block.max_trials) + " trials (last try: it " + last_problem +
+              "); enlarge the <position> range or the arena, lower quantity, or raise max_trials"});
       return;
     }
     if (!add(desc)) return;

@@ -55,11 +55,15 @@ class PlacementIndex {
   // The cells [x0, x1] x [y0, y1] a footprint's bounding box touches.
   struct CellSpan {
     int64_t x0, y0, x1, y1;
-    double cells() const { return (static_cast<double>(x1 - x0) + 1) * (static_cast<double>(y1 - y0) + 1); }
+    double cells() const {
+      return (static_cast<double>(x1 - x0) + 1) * (static_cast<double>(y1 - y0) + 1);
+    }
   };
   CellSpan SpanOf(const Pose& pose, const Geometry& g) const;
   int64_t Cell(double v) const;
-  static uint64_t Key(int64_t x, int64_t y) { return (static_cast<uint64_t>(x) << 32) ^ static_cast<uint32_t>(y); }
+  static uint64_t Key(int64_t x, int64_t y) {
+    return (static_cast<uint64_t>(x) << 32) ^ static_cast<uint32_t>(y);
+  }
   double cell_;
   std::vector<Item> items_;
   std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
@@ -69,7 +73,8 @@ class PlacementIndex {
 // Why `init` cannot stand where it is among the footprints of `index` and in
 // `space`'s arena ("is outside the arena: ...", "overlaps 'b' (line 3)"), or
 // "".
-std::string PlacementProblem(const Space::EntityInit& init, const Space& space, const PlacementIndex& index);
+std::string PlacementProblem(const Space::EntityInit& init, const Space& space,
+                             const PlacementIndex& index);
 
 // Draws `draw`'s triple for the entity numbered `index` (a grid's place, or
 // a random draw from `rng`), in metres or radians.

@@ -42,17 +42,20 @@ std::string LoadPluginLibrary(const std::string& spec, const std::string& base_d
   std::vector<std::string> candidates;
   const bool has_dir = spec.find('/') != std::string::npos;
   auto with_ext = [](const std::string& s) {
-    return s.size() > 3 && s.compare(s.size() - 3, 3, ".so") == 0 ? std::vector<std::string>{s}
-                                                                  : std::vector<std::string>{s + ".so", s};
+    return s.size() > 3 && s.compare(s.size() - 3, 3, ".so") == 0
+               ? std::vector<std::string>{s}
+               : std::vector<std::string>{s + ".so", s};
   };
   if (has_dir) {
     std::vector<std::string> bases = {spec};
-    if (!fs::path(spec).is_absolute() && !base_dir.empty()) bases.push_back((fs::path(base_dir) / spec).string());
+    if (!fs::path(spec).is_absolute() && !base_dir.empty())
+      bases.push_back((fs::path(base_dir) / spec).string());
     for (const auto& b : bases)
       for (const auto& c : with_ext(b)) candidates.push_back(c);
   } else {
     for (const auto& dir : PluginSearchPath()) {
-      for (const auto& c : with_ext((fs::path(dir) / ("lib" + spec)).string())) candidates.push_back(c);
+      for (const auto& c : with_ext((fs::path(dir) / ("lib" + spec)).string()))
+        candidates.push_back(c);
       for (const auto& c : with_ext((fs::path(dir) / spec).string())) candidates.push_back(c);
     }
   }

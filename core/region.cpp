@@ -77,13 +77,15 @@ std::string Region::Problem() const {
   for (size_t i = 0; i < n; ++i) {
     for (size_t j = i + 1; j < n; ++j) {
       const bool neighbours = j == i + 1 || (i == 0 && j == n - 1);
-      const Vec2 &a = vertices[i], &b = vertices[(i + 1) % n], &c = vertices[j], &d = vertices[(j + 1) % n];
-      const bool meet = ProperlyCross(a, b, c, d) ||
-                        (!neighbours && (OnSegment(a, c, d) || OnSegment(b, c, d) || OnSegment(c, a, b) ||
-                                         OnSegment(d, a, b)));
+      const Vec2 &a = vertices[i], &b = vertices[(i + 1) % n], &c = vertices[j],
+                 &d = vertices[(j + 1) % n];
+      const bool meet =
+          ProperlyCross(a, b, c, d) || (!neighbours && (OnSegment(a, c, d) || OnSegment(b, c, d) ||
+                                                        OnSegment(c, a, b) || OnSegment(d, a, b)));
       if (meet) {
         std::ostringstream s;
-        s << "the polygon is not simple: side " << i + 1 << " and side " << j + 1 << " cross or touch";
+        s << "the polygon is not simple: side " << i + 1 << " and side " << j + 1
+          << " cross or touch";
         return s.str();
       }
     }

@@ -10,15 +10,24 @@ namespace colony {
 
 const char* PluginKindName(PluginKind kind) {
   switch (kind) {
-    case PluginKind::kEntity: return "entity";
-    case PluginKind::kEngine: return "engine";
-    case PluginKind::kPhysicsModel: return "physics_model";
-    case PluginKind::kSensor: return "sensor";
-    case PluginKind::kActuator: return "actuator";
-    case PluginKind::kMedium: return "medium";
-    case PluginKind::kRenderer: return "renderer";
-    case PluginKind::kController: return "controller";
-    case PluginKind::kLoopFunctions: return "loop_functions";
+    case PluginKind::kEntity:
+      return "entity";
+    case PluginKind::kEngine:
+      return "engine";
+    case PluginKind::kPhysicsModel:
+      return "physics_model";
+    case PluginKind::kSensor:
+      return "sensor";
+    case PluginKind::kActuator:
+      return "actuator";
+    case PluginKind::kMedium:
+      return "medium";
+    case PluginKind::kRenderer:
+      return "renderer";
+    case PluginKind::kController:
+      return "controller";
+    case PluginKind::kLoopFunctions:
+      return "loop_functions";
   }
   return "?";
 }

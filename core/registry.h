@@ -54,7 +54,7 @@ struct PluginInfo {
   std::vector<std::string> aliases;  // other accepted element names
   // Physics models: the components (core/component.h) they simulate.
   std::vector<std::string> components;
-  std::string library;               // filled in when loaded from a shared library
+  std::string library;  // filled in when loaded from a shared library
   std::vector<std::string> AttributeNames() const;
 };
 
@@ -129,32 +129,33 @@ class Renderer;
 
 #define COLONY_PLUGIN_CONCAT2(a, b) a##b
 #define COLONY_PLUGIN_CONCAT(a, b) COLONY_PLUGIN_CONCAT2(a, b)
-#define COLONY_REGISTER_PLUGIN_(BASE, KIND, CLASS, ...)                                  \
+#define COLONY_REGISTER_PLUGIN_(BASE, KIND, CLASS, ...)                                     \
   static const ::colony::Registrar<BASE> COLONY_PLUGIN_CONCAT(colony_registrar_, __LINE__)( \
-      ::colony::PluginInfo{KIND, __VA_ARGS__},                                           \
+      ::colony::PluginInfo{KIND, __VA_ARGS__},                                              \
       []() -> std::unique_ptr<BASE> { return std::make_unique<CLASS>(); })
 
 // COLONY_REGISTER_CONTROLLER(MyController, "my_controller", "summary");
-#define COLONY_REGISTER_CONTROLLER(CLASS, LABEL, SUMMARY) \
+#define COLONY_REGISTER_CONTROLLER(CLASS, LABEL, SUMMARY)                                        \
   COLONY_REGISTER_PLUGIN_(::colony::Controller, ::colony::PluginKind::kController, CLASS, LABEL, \
                           "default", SUMMARY)
-// COLONY_REGISTER_LOOP_FUNCTIONS(MyLoop, "my_loop", "summary", {{"param", "accepted", "default", "doc"}});
+// COLONY_REGISTER_LOOP_FUNCTIONS(MyLoop, "my_loop", "summary", {{"param", "accepted", "default",
+// "doc"}});
 #define COLONY_REGISTER_LOOP_FUNCTIONS(CLASS, LABEL, SUMMARY, ...)                              \
   COLONY_REGISTER_PLUGIN_(::colony::LoopFunctions, ::colony::PluginKind::kLoopFunctions, CLASS, \
                           LABEL, "default", SUMMARY, __VA_ARGS__)
-#define COLONY_REGISTER_ENTITY(CLASS, LABEL, SUMMARY, ATTRIBUTES, ALIASES)                        \
-  COLONY_REGISTER_PLUGIN_(::colony::EntityType, ::colony::PluginKind::kEntity, CLASS, LABEL,      \
+#define COLONY_REGISTER_ENTITY(CLASS, LABEL, SUMMARY, ATTRIBUTES, ALIASES)                   \
+  COLONY_REGISTER_PLUGIN_(::colony::EntityType, ::colony::PluginKind::kEntity, CLASS, LABEL, \
                           "default", SUMMARY, ATTRIBUTES, ALIASES)
-#define COLONY_REGISTER_ENGINE(CLASS, LABEL, SUMMARY, ...)                                         \
-  COLONY_REGISTER_PLUGIN_(::colony::PhysicsEngine, ::colony::PluginKind::kEngine, CLASS, LABEL,    \
+#define COLONY_REGISTER_ENGINE(CLASS, LABEL, SUMMARY, ...)                                      \
+  COLONY_REGISTER_PLUGIN_(::colony::PhysicsEngine, ::colony::PluginKind::kEngine, CLASS, LABEL, \
                           "default", SUMMARY, __VA_ARGS__)
 // Label "engine:entity", e.g. "kinematics2d:marxbot"; COMPONENTS, the
 // components it simulates, e.g. (std::vector<std::string>{"drive", "gripper"}).
-#define COLONY_REGISTER_PHYSICS_MODEL(CLASS, LABEL, SUMMARY, COMPONENTS)                       \
-  COLONY_REGISTER_PLUGIN_(::colony::PhysicsModel, ::colony::PluginKind::kPhysicsModel, CLASS,  \
+#define COLONY_REGISTER_PHYSICS_MODEL(CLASS, LABEL, SUMMARY, COMPONENTS)                      \
+  COLONY_REGISTER_PLUGIN_(::colony::PhysicsModel, ::colony::PluginKind::kPhysicsModel, CLASS, \
                           LABEL, "default", SUMMARY, {}, {}, COMPONENTS)
-#define COLONY_REGISTER_SENSOR(CLASS, LABEL, IMPLEMENTATION, SUMMARY, ...)                         \
-  COLONY_REGISTER_PLUGIN_(::colony::SensorSystem, ::colony::PluginKind::kSensor, CLASS, LABEL,     \
+#define COLONY_REGISTER_SENSOR(CLASS, LABEL, IMPLEMENTATION, SUMMARY, ...)                     \
+  COLONY_REGISTER_PLUGIN_(::colony::SensorSystem, ::colony::PluginKind::kSensor, CLASS, LABEL, \
                           IMPLEMENTATION, SUMMARY, __VA_ARGS__)
 #define COLONY_REGISTER_ACTUATOR(CLASS, LABEL, IMPLEMENTATION, SUMMARY, ...)                       \
   COLONY_REGISTER_PLUGIN_(::colony::ActuatorSystem, ::colony::PluginKind::kActuator, CLASS, LABEL, \

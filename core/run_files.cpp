@@ -39,7 +39,8 @@ constexpr size_t kMaxOpenRowFiles = 32;
 std::atomic<RowFile*> open_row_files[kMaxOpenRowFiles];
 
 void SyncFolderOf(const std::string& path) {
-  const std::string dir = fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
+  const std::string dir =
+      fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path().string();
   const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd < 0) return;
   ::fsync(fd);
@@ -52,7 +53,8 @@ std::string WriteErrorMessage(const std::string& path, int error_number) {
   return "cannot write '" + path + "': " + std::strerror(error_number);
 }
 
-void WriteFileAtomically(const std::string& path, std::string_view text, bool sync, const std::string& tmp_name) {
+void WriteFileAtomically(const std::string& path, std::string_view text, bool sync,
+                         const std::string& tmp_name) {
   const std::string tmp = tmp_name.empty() ? path + ".tmp" : tmp_name;
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw RuntimeFailure(WriteErrorMessage(tmp, errno));
@@ -73,7 +75,9 @@ void WriteFileAtomically(const std::string& path, std::string_view text, bool sy
 }
 
 RowFile::RowFile(std::string path)
-    : path_(std::move(path)), buffer_(new char[kCapacity]), last_write_(std::chrono::steady_clock::now()) {
+    : path_(std::move(path)),
+      buffer_(new char[kCapacity]),
+      last_write_(std::chrono::steady_clock::now()) {
   fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) throw RuntimeFailure(WriteErrorMessage(path_, errno));
   for (auto& slot : open_row_files) {
@@ -121,7 +125,8 @@ void RowFile::Append(std::string_view row) {
   if (used_.load() + row.size() > kCapacity) Flush();
   if (row.size() > kCapacity) {
     // Larger than the buffer: straight out.
-    if (const int error = WriteRows(row.data(), row.size())) throw RuntimeFailure(WriteErrorMessage(path_, error));
+    if (const int error = WriteRows(row.data(), row.size()))
+      throw RuntimeFailure(WriteErrorMessage(path_, error));
     return;
   }
   const size_t used = used_.load();

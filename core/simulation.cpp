@@ -80,11 +80,13 @@ void Simulation::AttachController(Robot& robot, int line) {
   // What the devices need of the robot and its engine, checked here for
   // every device (and again in Migrate).
   auto component_problem = [&](auto* system) -> std::string {
-    return ComponentProblem(robot.entity.index, system->NeededComponents(), EngineOf(robot.entity), true);
+    return ComponentProblem(robot.entity.index, system->NeededComponents(), EngineOf(robot.entity),
+                            true);
   };
   for (size_t i = 0; i < ns; ++i) {
     try {
-      if (std::string problem = component_problem(config.sensors[i]); !problem.empty()) throw AttachError(problem);
+      if (std::string problem = component_problem(config.sensors[i]); !problem.empty())
+        throw AttachError(problem);
       robot.sensors[i] = config.sensors[i]->Attach(
           robot.entity, RandomStream::For(seed_, robot.id, "sensor/" + config.sensor_labels[i]));
     } catch (const AttachError& e) {
@@ -96,9 +98,11 @@ void Simulation::AttachController(Robot& robot, int line) {
   }
   for (size_t i = 0; i < na; ++i) {
     try {
-      if (std::string problem = component_problem(config.actuators[i]); !problem.empty()) throw AttachError(problem);
+      if (std::string problem = component_problem(config.actuators[i]); !problem.empty())
+        throw AttachError(problem);
       robot.actuators[i] = config.actuators[i]->Attach(
-          robot.entity, RandomStream::For(seed_, robot.id, "actuator/" + config.actuator_labels[i]));
+          robot.entity,
+          RandomStream::For(seed_, robot.id, "actuator/" + config.actuator_labels[i]));
     } catch (const AttachError& e) {
       config.actuator_nodes[i].ElementError("robot '" + robot.id + "' (a " + type + ", line " +
                                             std::to_string(line) +
@@ -128,8 +132,8 @@ void Simulation::AttachController(Robot& robot, int line) {
                              robot.id + "': " + e.what());
     context_->diagnostics.ThrowIfAny();
   } catch (...) {
-    config.node.ElementError("controller '" + config.label + "' failed to start on robot '" + robot.id +
-                             "': it threw something that is not a std::exception");
+    config.node.ElementError("controller '" + config.label + "' failed to start on robot '" +
+                             robot.id + "': it threw something that is not a std::exception");
     context_->diagnostics.ThrowIfAny();
   }
   if (!config.params_checked) {
@@ -155,8 +159,10 @@ void Simulation::RemoveEntity(EntityHandle entity) {
   if (robot_of_[slot] >= 0) {
     Robot& robot = robots_[robot_of_[slot]];
     robot.controller->Destroy();
-    for (size_t i = 0; i < robot.config->sensors.size(); ++i) robot.config->sensors[i]->Detach(robot.sensors[i]);
-    for (size_t i = 0; i < robot.config->actuators.size(); ++i) robot.config->actuators[i]->Detach(robot.actuators[i]);
+    for (size_t i = 0; i < robot.config->sensors.size(); ++i)
+      robot.config->sensors[i]->Detach(robot.sensors[i]);
+    for (size_t i = 0; i < robot.config->actuators.size(); ++i)
+      robot.config->actuators[i]->Detach(robot.actuators[i]);
     robot.controller.reset();
     robot.alive = false;
     robot_of_[slot] = -1;
@@ -217,18 +223,21 @@ void Simulation::Migrate() {
   }
 }
 
-void Simulation::CheckDevicesCanMigrate(uint32_t slot, const PhysicsEngine& from, const PhysicsEngine& to) const {
+void Simulation::CheckDevicesCanMigrate(uint32_t slot, const PhysicsEngine& from,
+                                        const PhysicsEngine& to) const {
   if (robot_of_[slot] < 0) return;
   const Robot& robot = robots_[robot_of_[slot]];
   const ControllerConfig& config = *robot.config;
-  auto check = [&](const char* kind, const std::string& label, const std::vector<std::string>& needed) {
+  auto check = [&](const char* kind, const std::string& label,
+                   const std::vector<std::string>& needed) {
     const std::string problem = ComponentProblem(slot, needed, &to, false);
     if (problem.empty()) return;
-    throw RuntimeFailure("robot '" + robot.id + "' crossed at tick " + std::to_string(tick_ + 1) + " from " +
-                         EngineName(&from) + " into the region of " + EngineName(&to) + ", which cannot simulate its " +
-                         kind + " '" + label + "': " + problem +
-                         "; keep such robots inside the regions of engines that simulate it (walls, or "
-                         "boundaries)");
+    throw RuntimeFailure(
+        "robot '" + robot.id + "' crossed at tick " + std::to_string(tick_ + 1) + " from " +
+        EngineName(&from) + " into the region of " + EngineName(&to) +
+        ", which cannot simulate its " + kind + " '" + label + "': " + problem +
+        "; keep such robots inside the regions of engines that simulate it (walls, or "
+        "boundaries)");
   };
   for (size_t i = 0; i < config.sensors.size(); ++i) {
     check("sensor", config.sensor_labels[i], config.sensors[i]->NeededComponents());
@@ -255,7 +264,8 @@ std::string Simulation::ComponentProblem(uint32_t slot, const std::vector<std::s
   }
   for (const std::string& name : needed) {
     if (!space_.Has(slot, ComponentTypeNamed(name))) {
-      const EntityType* entity_type = type < entity_types_.size() ? entity_types_[type].first : nullptr;
+      const EntityType* entity_type =
+          type < entity_types_.size() ? entity_types_[type].first : nullptr;
       const std::string hint = entity_type ? entity_type->ComponentHint(name) : "";
       return "it has no " + name + (hint.empty() ? "" : "; " + hint);
     }
@@ -267,7 +277,9 @@ std::string Simulation::ComponentProblem(uint32_t slot, const std::vector<std::s
     const std::string suffix = ":" + type_label;
     for (const PluginInfo* info : AllPlugins()) {
       if (info->kind != PluginKind::kPhysicsModel || !info->label.ends_with(suffix)) continue;
-      if (std::find(info->components.begin(), info->components.end(), name) == info->components.end()) continue;
+      if (std::find(info->components.begin(), info->components.end(), name) ==
+          info->components.end())
+        continue;
       others.push_back(info->label.substr(0, info->label.size() - suffix.size()));
     }
     return (attaching ? "its physics engine (" + EngineName(engine) + ")" : EngineName(engine)) +
@@ -347,8 +359,8 @@ void Simulation::SenseAndControl() {
   }
   if (error_robot != SIZE_MAX) {
     const Robot& r = robots_[error_robot];
-    throw RuntimeFailure("controller '" + r.config->label + "' of robot '" + r.id + "' failed at tick " +
-                         std::to_string(tick_ + 1) + ": " + error_message);
+    throw RuntimeFailure("controller '" + r.config->label + "' of robot '" + r.id +
+                         "' failed at tick " + std::to_string(tick_ + 1) + ": " + error_message);
   }
 }
 
@@ -357,7 +369,8 @@ void Simulation::CallLoopFunctions(const char* hook, uint64_t tick, Hook&& call)
   for (size_t i = 0; i < loop_functions_.size(); ++i) {
     const PluginInfo& info = *loop_function_info_[i];
     const RunningScope running({"loop functions", info.label.c_str(),
-                                info.library.empty() ? nullptr : info.library.c_str(), nullptr, tick});
+                                info.library.empty() ? nullptr : info.library.c_str(), nullptr,
+                                tick});
     try {
       call(*loop_functions_[i]);
     } catch (const std::exception& e) {
@@ -365,7 +378,8 @@ void Simulation::CallLoopFunctions(const char* hook, uint64_t tick, Hook&& call)
                            std::to_string(tick) + ": " + e.what());
     } catch (...) {
       throw RuntimeFailure("loop functions '" + info.label + "' failed in " + hook + " at tick " +
-                           std::to_string(tick) + ": it threw something that is not a std::exception");
+                           std::to_string(tick) +
+                           ": it threw something that is not a std::exception");
     }
   }
 }
@@ -424,11 +438,12 @@ Renderer& Simulation::AddRenderer(const std::string& xml) {
   }
   ConfigContext context{"<AddRenderer>", {}};
   const ConfigNode node(fragment.RootElement(), &context);
-  if (!HaveImageRenderer()) throw ConfigError(NoImageRendererMessage("the renderer <" + node.name() + ">"));
+  if (!HaveImageRenderer())
+    throw ConfigError(NoImageRendererMessage("the renderer <" + node.name() + ">"));
   const auto* entry = Registry<Renderer>::Get().Find(node.name());
   if (!entry) {
-    throw ConfigError("no renderer '" + node.name() + "' in this build; available: " +
-                      Join(Registry<Renderer>::Get().Labels()));
+    throw ConfigError("no renderer '" + node.name() +
+                      "' in this build; available: " + Join(Registry<Renderer>::Get().Labels()));
   }
   node.CheckAttributes(entry->info.AttributeNames());
   auto renderer = entry->create();

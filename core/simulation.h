@@ -69,8 +69,8 @@ struct StepProfile {
 // engine's region.
 enum class PlacementCheck {
   kNone,   // nothing more: the caller knows there is room
-  kClear,  // wholly inside the arena and clear of solid entities (fixed ones may touch each other), as
-           // the entities of an experiment file must be
+  kClear,  // wholly inside the arena and clear of solid entities (fixed ones may touch each other),
+           // as the entities of an experiment file must be
 };
 
 class Simulation {
@@ -163,7 +163,8 @@ class Simulation {
     std::string id;
     std::string label;
     const void* entry = nullptr;  // Registry<Controller>::Entry
-    const char* library = nullptr;  // the entry's shared library, or null (built in), for crash reports
+    const char* library =
+        nullptr;  // the entry's shared library, or null (built in), for crash reports
     ConfigNode node;
     Params params;
     std::vector<std::string> sensor_labels, actuator_labels;
@@ -189,16 +190,18 @@ class Simulation {
   void CreateMedia(const std::vector<PluginSpec>& media);
   void CreateControllers(const std::vector<ControllerSpec>& controllers);
   template <class System>
-  void CreateDevices(const std::vector<PluginSpec>& devices, const char* what, std::vector<std::string>& labels,
-                     std::vector<System*>& systems, std::vector<ConfigNode>& nodes,
-                     std::vector<std::unique_ptr<System>>& owned);
+  void CreateDevices(const std::vector<PluginSpec>& devices, const char* what,
+                     std::vector<std::string>& labels, std::vector<System*>& systems,
+                     std::vector<ConfigNode>& nodes, std::vector<std::unique_ptr<System>>& owned);
   void CreateEngines(const std::vector<EngineSpec>& engines);
   void CreateRenderers(const std::vector<PluginSpec>& renderers);
   bool CheckMemory(const ArenaSpec& arena);
   void BuildArena(const ArenaSpec& arena);
   void CreateLoopFunctions(const std::optional<PluginSpec>& loop_functions);
   // A plugin element of the spec, reporting to this simulation's diagnostics.
-  ConfigNode Node(const ConfigNode& element) const { return ConfigNode(element.element(), context_.get()); }
+  ConfigNode Node(const ConfigNode& element) const {
+    return ConfigNode(element.element(), context_.get());
+  }
   // Checks `desc` (see AddEntity) and adds it. `placed`: while building,
   // the footprints placed so far, which it must fit among (and joins);
   // otherwise `check` says whether its place is checked against the space.
@@ -226,7 +229,8 @@ class Simulation {
   void Migrate();
   // Throws RuntimeFailure when a device of the robot in `slot` cannot work
   // in `to` (ComponentProblem).
-  void CheckDevicesCanMigrate(uint32_t slot, const PhysicsEngine& from, const PhysicsEngine& to) const;
+  void CheckDevicesCanMigrate(uint32_t slot, const PhysicsEngine& from,
+                              const PhysicsEngine& to) const;
   // The one check of what a device needs (SensorSystem::NeededComponents):
   // why the entity in `slot` cannot use a device needing the components
   // `needed` while `engine` simulates it (null: not checked against an
@@ -268,7 +272,7 @@ class Simulation {
   std::vector<std::unique_ptr<SensorSystem>> sensor_systems_;
   std::vector<std::unique_ptr<ActuatorSystem>> actuator_systems_;
   std::vector<std::unique_ptr<ControllerConfig>> controller_configs_;
-  std::deque<Robot> robots_;  // stable addresses: controllers point at their ids
+  std::deque<Robot> robots_;       // stable addresses: controllers point at their ids
   std::vector<int32_t> robot_of_;  // per space slot, -1 if none
   size_t robot_count_ = 0;
   std::vector<std::unique_ptr<LoopFunctions>> loop_functions_;

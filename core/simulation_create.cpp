@@ -18,9 +18,12 @@ namespace {
 // The registered plugin a spec names. A spec the reader made names only
 // registered ones; a program may have changed it.
 template <class Base>
-const typename Registry<Base>::Entry* FindEntry(const PluginSpec& plugin, const ConfigNode& node, const char* what) {
-  if (const auto* entry = Registry<Base>::Get().Find(plugin.label, plugin.implementation)) return entry;
-  node.ElementError(std::string("no ") + what + " '" + plugin.label + "' (implementation '" + plugin.implementation +
+const typename Registry<Base>::Entry* FindEntry(const PluginSpec& plugin, const ConfigNode& node,
+                                                const char* what) {
+  if (const auto* entry = Registry<Base>::Get().Find(plugin.label, plugin.implementation))
+    return entry;
+  node.ElementError(std::string("no ") + what + " '" + plugin.label + "' (implementation '" +
+                    plugin.implementation +
                     "') is registered; accepted: " + Join(Registry<Base>::Get().Labels()));
   return nullptr;
 }
@@ -91,9 +94,10 @@ void Simulation::CreateControllers(const std::vector<ControllerSpec>& controller
     config->entry = entry;
     config->node = node;
     config->params = c.params;
-    CreateDevices(c.sensors, "sensor", config->sensor_labels, config->sensors, config->sensor_nodes, sensor_systems_);
-    CreateDevices(c.actuators, "actuator", config->actuator_labels, config->actuators, config->actuator_nodes,
-                  actuator_systems_);
+    CreateDevices(c.sensors, "sensor", config->sensor_labels, config->sensors, config->sensor_nodes,
+                  sensor_systems_);
+    CreateDevices(c.actuators, "actuator", config->actuator_labels, config->actuators,
+                  config->actuator_nodes, actuator_systems_);
     controller_configs_.push_back(std::move(config));
   }
 }
@@ -102,7 +106,8 @@ void Simulation::CreateControllers(const std::vector<ControllerSpec>& controller
 template <class System>
 void Simulation::CreateDevices(const std::vector<PluginSpec>& devices, const char* what,
                                std::vector<std::string>& labels, std::vector<System*>& systems,
-                               std::vector<ConfigNode>& nodes, std::vector<std::unique_ptr<System>>& owned) {
+                               std::vector<ConfigNode>& nodes,
+                               std::vector<std::unique_ptr<System>>& owned) {
   for (const PluginSpec& d : devices) {
     const ConfigNode node = Node(d.node);
     const auto* entry = FindEntry<System>(d, node, what);
@@ -131,20 +136,27 @@ void Simulation::CreateEngines(const std::vector<EngineSpec>& engines) {
     // 3D engines (gravity, ditches, stacking) and 2D ones (bodies on the floor) do not mix.
     if (!engines_.empty() && engine->Is3D() != engines_.front()->Is3D()) {
       const PhysicsEngine& first = *engines_.front();
-      const auto dims = [](const PhysicsEngine& e) { return e.Is3D() ? std::string("3D") : std::string("2D"); };
-      node.ElementError(engine->label() + " '" + id + "' is a " + dims(*engine) + " engine and cannot share an experiment with " +
-                        dims(first) + " engines (" + first.label() + " '" + first.id() + "', line " +
+      const auto dims = [](const PhysicsEngine& e) {
+        return e.Is3D() ? std::string("3D") : std::string("2D");
+      };
+      node.ElementError(engine->label() + " '" + id + "' is a " + dims(*engine) +
+                        " engine and cannot share an experiment with " + dims(first) +
+                        " engines (" + first.label() + " '" + first.id() + "', line " +
                         std::to_string(lines.front()) + "); use only 3D engines or only 2D ones");
     }
     // Two engines of one kind must not simulate the same place.
     for (size_t k = 0; k < engines_.size(); ++k) {
       const PhysicsEngine& other = *engines_[k];
       if (other.label() != engine->label()) continue;
-      const bool overlap = !engine->region() || !other.region() || engine->region()->Overlaps(*other.region());
+      const bool overlap =
+          !engine->region() || !other.region() || engine->region()->Overlaps(*other.region());
       if (overlap) {
-        node.ElementError("the region of " + engine->label() + " '" + id + "' overlaps that of " + other.label() +
-                          " '" + other.id() + "' (line " + std::to_string(lines[k]) + ")" +
-                          (!engine->region() || !other.region() ? "; an engine without <boundaries> covers the whole arena" : ""));
+        node.ElementError("the region of " + engine->label() + " '" + id + "' overlaps that of " +
+                          other.label() + " '" + other.id() + "' (line " +
+                          std::to_string(lines[k]) + ")" +
+                          (!engine->region() || !other.region()
+                               ? "; an engine without <boundaries> covers the whole arena"
+                               : ""));
       }
     }
     lines.push_back(node.line());
@@ -172,7 +184,8 @@ bool Simulation::CheckMemory(const ArenaSpec& arena) {
   const uint64_t available = AvailableMemoryBytes();
   auto bytes_of = [](const EntityDesc& desc) -> uint64_t {
     const auto* entry = Registry<EntityType>::Get().Find(desc.type);
-    return entry && EntityTypeInstance(*entry).is_robot() ? kEstimatedBytesPerRobot : kEstimatedBytesPerEntity;
+    return entry && EntityTypeInstance(*entry).is_robot() ? kEstimatedBytesPerRobot
+                                                          : kEstimatedBytesPerEntity;
   };
   double needed = 0;
   for (const auto& item : arena.contents) {
@@ -190,7 +203,8 @@ bool Simulation::CheckMemory(const ArenaSpec& arena) {
     const double before = needed;
     needed += static_cast<double>(each) * static_cast<double>(block.quantity);
     if (needed <= static_cast<double>(available)) continue;
-    const double room = std::max(0.0, (static_cast<double>(available) - before) / static_cast<double>(each));
+    const double room =
+        std::max(0.0, (static_cast<double>(available) - before) / static_cast<double>(each));
     const std::string quantity = std::to_string(block.quantity);
     context_->diagnostics.Add(Diagnostic{
         file_, block.entity_line, "entity", "quantity", quantity,
@@ -208,7 +222,8 @@ void Simulation::BuildArena(const ArenaSpec& arena) {
   if (!CheckMemory(arena)) return;
   space_.SetArena(arena.center, arena.size);
   const Vec3 lo = arena.center - 0.5 * arena.size, hi = arena.center + 0.5 * arena.size;
-  if (arena.ceiling.present) space_.SetCeiling(Space::Ceiling{lo.z() + arena.ceiling.height, arena.ceiling.ferromagnetic});
+  if (arena.ceiling.present)
+    space_.SetCeiling(Space::Ceiling{lo.z() + arena.ceiling.height, arena.ceiling.ferromagnetic});
   Floor& floor = space_.floor();
   for (const Ditch& ditch : arena.floor.ditches) floor.AddDitch(ditch);
   floor.SetColor(arena.floor.color);
@@ -221,18 +236,24 @@ void Simulation::BuildArena(const ArenaSpec& arena) {
     }
     const std::string error = floor.LoadImage(p.string(), lo.x(), lo.y(), hi.x(), hi.y());
     if (!error.empty()) {
-      context_->diagnostics.Add(Diagnostic{file_, arena.floor.line, "floor", "path", arena.floor.image, error});
+      context_->diagnostics.Add(
+          Diagnostic{file_, arena.floor.line, "floor", "path", arena.floor.image, error});
     }
   }
   PlacementIndex placed(0.5);
   for (const EntityDesc& wall : arena.walls) Add(wall, PlacementCheck::kClear, &placed);
-  auto problem = [&](const EntityDesc& desc) { return PlacementProblem(desc.init, space_, placed); };
-  auto add = [&](const EntityDesc& desc) { return Add(desc, PlacementCheck::kClear, &placed).valid(); };
+  auto problem = [&](const EntityDesc& desc) {
+    return PlacementProblem(desc.init, space_, placed);
+  };
+  auto add = [&](const EntityDesc& desc) {
+    return Add(desc, PlacementCheck::kClear, &placed).valid();
+  };
   for (const auto& item : arena.contents) {
     if (const auto* desc = std::get_if<EntityDesc>(&item)) {
       Add(*desc, PlacementCheck::kClear, &placed);
     } else {
-      PlaceDistributed(std::get<DistributeSpec>(item), seed_, file_, problem, add, context_->diagnostics);
+      PlaceDistributed(std::get<DistributeSpec>(item), seed_, file_, problem, add,
+                       context_->diagnostics);
     }
   }
 }
@@ -255,10 +276,10 @@ void Simulation::CreateLoopFunctions(const std::optional<PluginSpec>& loop_funct
   loop_function_info_.push_back(&entry->info);
 }
 
-void Simulation::EntityError(const EntityDesc& desc, const std::string& attribute, const std::string& value,
-                             const std::string& message) {
-  context_->diagnostics.Add(
-      Diagnostic{desc.line > 0 ? file_ : "", desc.line, EntityLabel(desc), attribute, value, message});
+void Simulation::EntityError(const EntityDesc& desc, const std::string& attribute,
+                             const std::string& value, const std::string& message) {
+  context_->diagnostics.Add(Diagnostic{desc.line > 0 ? file_ : "", desc.line, EntityLabel(desc),
+                                       attribute, value, message});
 }
 
 EntityHandle Simulation::Add(const EntityDesc& desc, PlacementCheck check, PlacementIndex* placed) {
@@ -281,26 +302,32 @@ EntityHandle Simulation::Add(const EntityDesc& desc, PlacementCheck check, Place
     std::vector<std::string> ids;
     for (const auto& c : controller_configs_) ids.push_back(c->id);
     if (std::find(ids.begin(), ids.end(), desc.controller) == ids.end()) {
-      std::string message = desc.controller.empty()
-                                ? "a " + entry->info.label + " needs a controller: the id of one of the <controllers>"
-                                : "no controller with id '" + desc.controller + "' is defined in <controllers>";
+      std::string message =
+          desc.controller.empty()
+              ? "a " + entry->info.label + " needs a controller: the id of one of the <controllers>"
+              : "no controller with id '" + desc.controller + "' is defined in <controllers>";
       const std::string guess = desc.controller.empty() ? "" : DidYouMean(desc.controller, ids);
       if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
-      EntityError(desc, "", "", message + (ids.empty() ? "; none is defined" : "; defined: " + Join(ids)));
+      EntityError(desc, "", "",
+                  message + (ids.empty() ? "; none is defined" : "; defined: " + Join(ids)));
       return {};
     }
   } else if (!desc.controller.empty()) {
-    EntityError(desc, "", "", "a " + entry->info.label + " carries no controller (only robots do); accepted: none");
+    EntityError(
+        desc, "", "",
+        "a " + entry->info.label + " carries no controller (only robots do); accepted: none");
     return {};
   }
   if (const EntityHandle existing = space_.Find(id); existing.valid()) {
     const int first = line_of_[existing.index];
-    const std::string where = first > 0 ? " (first defined at line " + std::to_string(first) + ")" : "";
+    const std::string where =
+        first > 0 ? " (first defined at line " + std::to_string(first) + ")" : "";
     EntityError(desc, "id", id, "duplicate entity id '" + id + "'" + where);
     return {};
   }
   if (placed || check == PlacementCheck::kClear) {
-    const std::string problem = placed ? PlacementProblem(desc.init, space_, *placed) : PlaceProblemNow(desc.init);
+    const std::string problem =
+        placed ? PlacementProblem(desc.init, space_, *placed) : PlaceProblemNow(desc.init);
     if (!problem.empty()) {
       EntityError(desc, "", "",
                   "entity '" + id + "' " + problem +
@@ -314,13 +341,16 @@ EntityHandle Simulation::Add(const EntityDesc& desc, PlacementCheck check, Place
   if (entity_types_.size() <= type_id) entity_types_.resize(type_id + 1);
   entity_types_[type_id] = {&type, type_id};
   const std::vector<PhysicsModel*>& models = ModelsFor(type_id, entry->info.label);
-  const bool simulated = std::any_of(models.begin(), models.end(), [](PhysicsModel* m) { return m; });
+  const bool simulated =
+      std::any_of(models.begin(), models.end(), [](PhysicsModel* m) { return m; });
   if (init.geometry.shape != ShapeKind::kNone && !simulated) {
     std::vector<std::string> engines;
     for (const auto& e : engines_) engines.push_back(e->label() + " '" + e->id() + "'");
     EntityError(desc, "", "",
                 engines.empty()
-                    ? "entity '" + id + "' needs a physics engine, but <physics_engines> declares none; add e.g. <kinematics2d id=\"k2d\"/>"
+                    ? "entity '" + id +
+                          "' needs a physics engine, but <physics_engines> declares none; add e.g. "
+                          "<kinematics2d id=\"k2d\"/>"
                     : "no physics engine of this experiment can simulate a '" + entry->info.label +
                           "' (engines: " + Join(engines) + "; no model registered for " +
                           engines_.front()->label() + ":" + entry->info.label + ")");
@@ -328,7 +358,8 @@ EntityHandle Simulation::Add(const EntityDesc& desc, PlacementCheck check, Place
   }
   const std::vector<int> engines = EnginesFor(desc, models);
   if (init.geometry.shape != ShapeKind::kNone && engines.empty()) return {};
-  if (placed && (init.flags & kSolid)) placed->Insert(init.pose, init.geometry, id, desc.line, init.flags & kMovable);
+  if (placed && (init.flags & kSolid))
+    placed->Insert(init.pose, init.geometry, id, desc.line, init.flags & kMovable);
   EntityDesc typed = desc;
   typed.init.type = type_id;
   return Instantiate(typed, models.data(), engines, desc.line);
@@ -349,7 +380,8 @@ std::string Simulation::PlaceProblemNow(const Space::EntityInit& init) {
   for (uint32_t s : near) {
     if (!movable && !space_.movable(s)) continue;
     if (!FootprintsOverlap(init.pose, init.geometry, space_.pose(s), space_.geometry(s))) continue;
-    return "overlaps '" + space_.id(s) + "'" + (line_of_[s] > 0 ? " (line " + std::to_string(line_of_[s]) + ")" : "");
+    return "overlaps '" + space_.id(s) + "'" +
+           (line_of_[s] > 0 ? " (line " + std::to_string(line_of_[s]) + ")" : "");
   }
   return "";
 }
@@ -369,7 +401,8 @@ std::vector<PhysicsModel*>& Simulation::ModelsFor(uint16_t type, const std::stri
   return models;
 }
 
-std::vector<int> Simulation::EnginesFor(const EntityDesc& desc, const std::vector<PhysicsModel*>& models) {
+std::vector<int> Simulation::EnginesFor(const EntityDesc& desc,
+                                        const std::vector<PhysicsModel*>& models) {
   std::vector<int> chosen;
   const auto& init = desc.init;
   if (init.geometry.shape == ShapeKind::kNone) return chosen;
@@ -385,7 +418,9 @@ std::vector<int> Simulation::EnginesFor(const EntityDesc& desc, const std::vecto
       chosen.push_back(static_cast<int>(e));
       break;
     }
-    if (!movable && (!engine.region() || engine.region()->Touches(p.head<2>(), half, p.z(), p.z() + init.geometry.height()))) {
+    if (!movable &&
+        (!engine.region() ||
+         engine.region()->Touches(p.head<2>(), half, p.z(), p.z() + init.geometry.height()))) {
       chosen.push_back(static_cast<int>(e));
     }
   }
@@ -395,8 +430,8 @@ std::vector<int> Simulation::EnginesFor(const EntityDesc& desc, const std::vecto
       if (models[e]) names.push_back(engines_[e]->label() + " '" + engines_[e]->id() + "'");
     std::ostringstream s;
     s << "entity '" << init.id << "' at (" << p.x() << ", " << p.y() << ", " << p.z() << ") is "
-      << (movable ? "inside" : "touching") << " no engine's <boundaries> (engines that can simulate it: "
-      << Join(names) << ")";
+      << (movable ? "inside" : "touching")
+      << " no engine's <boundaries> (engines that can simulate it: " << Join(names) << ")";
     EntityError(desc, "", "", s.str());
   }
   return chosen;
@@ -417,7 +452,9 @@ EntityHandle Simulation::AddEntity(const EntityDesc& desc, PlacementCheck check)
   return h;
 }
 
-EntityHandle Simulation::AddEntity(const std::string& xml) { return AddEntity(ReadEntityDesc(xml, "<AddEntity>")); }
+EntityHandle Simulation::AddEntity(const std::string& xml) {
+  return AddEntity(ReadEntityDesc(xml, "<AddEntity>"));
+}
 
 void Simulation::Withdraw(const std::string& id) {
   const EntityHandle h = space_.Find(id);
@@ -453,14 +490,16 @@ Medium* Simulation::MediumFor(const ConfigNode& device, const std::string& label
     for (auto& m : media_) {
       if (m->id() == id) {
         if (m->label() == label) return m.get();
-        device.Error("medium", id, "medium '" + id + "' is a <" + m->label() + ">, not a <" + label + ">");
+        device.Error("medium", id,
+                     "medium '" + id + "' is a <" + m->label() + ">, not a <" + label + ">");
         return nullptr;
       }
       if (m->label() == label) same_kind.push_back(m->id());
     }
-    device.Error("medium", id, "no medium with id '" + id + "' in <media>; accepted: " +
-                                   (same_kind.empty() ? "the id of a <" + label + "> declared in <media>"
-                                                      : Join(same_kind)));
+    device.Error("medium", id,
+                 "no medium with id '" + id + "' in <media>; accepted: " +
+                     (same_kind.empty() ? "the id of a <" + label + "> declared in <media>"
+                                        : Join(same_kind)));
     return nullptr;
   }
   Medium* found = nullptr;
@@ -473,7 +512,8 @@ Medium* Simulation::MediumFor(const ConfigNode& device, const std::string& label
   }
   if (count == 1) return found;
   if (count > 1) {
-    device.ElementError("<media> declares several <" + label + "> media; say which with medium=\"id\"");
+    device.ElementError("<media> declares several <" + label +
+                        "> media; say which with medium=\"id\"");
     return nullptr;
   }
   // None declared: one with default settings, shared by every device that names none.

@@ -29,7 +29,8 @@ const std::vector<uint32_t>& Space::OfType(uint16_t type) const {
 }
 
 EntityHandle Space::Add(EntityInit init) {
-  if (init.components.size() > 255) throw std::length_error("entity '" + init.id + "' has more than 255 components");
+  if (init.components.size() > 255)
+    throw std::length_error("entity '" + init.id + "' has more than 255 components");
   uint32_t slot;
   if (!free_slots_.empty()) {
     slot = free_slots_.back();
@@ -111,7 +112,8 @@ void Space::Remove(EntityHandle h) {
 
 std::vector<ComponentType> Space::ComponentsOf(uint32_t i) const {
   std::vector<ComponentType> out;
-  for (uint32_t k = 0; k < component_count_[i]; ++k) out.push_back(component_refs_[component_begin_[i] + k].type);
+  for (uint32_t k = 0; k < component_count_[i]; ++k)
+    out.push_back(component_refs_[component_begin_[i] + k].type);
   return out;
 }
 
@@ -132,8 +134,8 @@ void Space::ConfigureGrid() {
   // neighbour query then touches a handful of cells. Over a huge arena they
   // grow, so that the table stays within GridCellCap (core/bounds.h).
   const Vec3 extent = arena_max_ - arena_min_;
-  const double cell = CappedCellSize(extent.x(), extent.y(), std::max(0.5, 2.0 * max_movable_radius_),
-                                     GridCellCap(alive_count_));
+  const double cell = CappedCellSize(
+      extent.x(), extent.y(), std::max(0.5, 2.0 * max_movable_radius_), GridCellCap(alive_count_));
   const int nx = std::max(1, static_cast<int>(std::ceil(extent.x() / cell)));
   const int ny = std::max(1, static_cast<int>(std::ceil(extent.y() / cell)));
   if (cell == cell_ && nx == nx_ && ny == ny_ && !cell_start_.empty()) return;

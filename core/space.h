@@ -69,11 +69,11 @@ enum EntityFlag : uint8_t {
 // read by engines; engines write back what the wheels really did.
 struct DriveState {
   static constexpr const char* kComponentName = "drive";
-  double target_left = 0, target_right = 0;  // commanded wheel speeds (m/s)
-  double left = 0, right = 0;                // wheel speeds after acceleration limits (m/s)
-  double wheel_base = 0;                     // distance between the wheels (m)
-  double wheel_radius = 0;                   // m
-  double max_speed = 0;                      // m/s
+  double target_left = 0, target_right = 0;        // commanded wheel speeds (m/s)
+  double left = 0, right = 0;                      // wheel speeds after acceleration limits (m/s)
+  double wheel_base = 0;                           // distance between the wheels (m)
+  double wheel_radius = 0;                         // m
+  double max_speed = 0;                            // m/s
   double travelled_left = 0, travelled_right = 0;  // distance each wheel moved last tick (m)
   // False when the robot has no power (e.g. its battery is empty): the
   // steering actuator then commands both wheels to stop.
@@ -141,9 +141,7 @@ class Space {
   void set_in_contact(uint32_t i, bool c) { contact_[i] = c; }
 
   // LEDs of an entity (empty if it has none).
-  std::span<Color> leds(uint32_t i) {
-    return {leds_.data() + led_offset_[i], led_count_[i]};
-  }
+  std::span<Color> leds(uint32_t i) { return {leds_.data() + led_offset_[i], led_count_[i]}; }
   std::span<const Color> leds(uint32_t i) const {
     return {leds_.data() + led_offset_[i], led_count_[i]};
   }

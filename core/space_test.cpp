@@ -13,7 +13,8 @@
 namespace colony {
 namespace {
 
-Space::EntityInit Robot(const std::string& id, uint16_t type, double x, double y, double radius = 0.1) {
+Space::EntityInit Robot(const std::string& id, uint16_t type, double x, double y,
+                        double radius = 0.1) {
   Space::EntityInit init;
   init.id = id;
   init.type = type;
@@ -27,7 +28,8 @@ Space::EntityInit Robot(const std::string& id, uint16_t type, double x, double y
   return init;
 }
 
-Space::EntityInit Wall(const std::string& id, uint16_t type, double x, double y, double sx, double sy) {
+Space::EntityInit Wall(const std::string& id, uint16_t type, double x, double y, double sx,
+                       double sy) {
   Space::EntityInit init;
   init.id = id;
   init.type = type;
@@ -146,8 +148,8 @@ TEST_F(core_test_space, EntitiesCarryOnlyTheComponentsTheyWereMadeWith) {
   EXPECT_NE(space.drive(b.index), nullptr);
   EXPECT_EQ(space.drive(w.index), nullptr);
   EXPECT_TRUE(space.ComponentsOf(w.index).empty());
-  EXPECT_EQ(space.ComponentsOf(a.index),
-            (std::vector<ComponentType>{ComponentTypeOf<DriveState>(), ComponentTypeOf<TestArm>()}));
+  EXPECT_EQ(space.ComponentsOf(a.index), (std::vector<ComponentType>{ComponentTypeOf<DriveState>(),
+                                                                     ComponentTypeOf<TestArm>()}));
   EXPECT_EQ(ComponentName(ComponentTypeOf<TestArm>()), "core_test_arm");
   // The state hash sees the component's state.
   auto hash = [&] {
@@ -217,7 +219,8 @@ TEST_F(core_test_space, GatherReturnsNeighboursNotFarEntities) {
 }
 
 TEST_F(core_test_space, GatherReturnsEachEntityOnce) {
-  for (int i = 0; i < 50; ++i) space.Add(Robot("r" + std::to_string(i), robot_type, -4.5 + 0.18 * i, 0.1 * (i % 7)));
+  for (int i = 0; i < 50; ++i)
+    space.Add(Robot("r" + std::to_string(i), robot_type, -4.5 + 0.18 * i, 0.1 * (i % 7)));
   space.Add(Wall("long", box_type, 0, -2, 9, 0.2));
   space.UpdateIndex();
   auto all = Gathered(space, -5, -5, 5, 5);

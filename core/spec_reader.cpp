@@ -39,9 +39,9 @@ const EntityType& EntityTypeInstance(const Registry<EntityType>::Entry& entry) {
 
 namespace {
 
-const std::vector<std::string> kTopLevel = {"framework",       "controllers", "loop_functions",
-                                            "arena",           "physics_engines", "media",
-                                            "visualization",   "output"};
+const std::vector<std::string> kTopLevel = {"framework",     "controllers",     "loop_functions",
+                                            "arena",         "physics_engines", "media",
+                                            "visualization", "output"};
 
 // Whether `parent` holds a misspelling of `name`, already reported as an
 // unknown element (so "missing <name>" would only repeat it).
@@ -54,12 +54,14 @@ bool HasMisspelt(const ConfigNode& parent, const std::string& name) {
 
 template <class Base>
 const typename Registry<Base>::Entry* FindPlugin(const ConfigNode& node, const std::string& what,
-                                                 const std::string& label, const std::string& impl) {
+                                                 const std::string& label,
+                                                 const std::string& impl) {
   auto& registry = Registry<Base>::Get();
   if (const auto* entry = registry.Find(label, impl)) return entry;
   if (registry.Find(label)) {
-    node.Error("implementation", impl, "no implementation '" + impl + "' of " + what + " '" + label +
-                                           "'; accepted: " + Join(registry.Implementations(label)));
+    node.Error("implementation", impl,
+               "no implementation '" + impl + "' of " + what + " '" + label +
+                   "'; accepted: " + Join(registry.Implementations(label)));
     return nullptr;
   }
   std::string message = "unknown " + what + " '" + label + "'";
@@ -80,7 +82,8 @@ class SpecReader {
   // cannot be built. A <distribute> template's id is optional (the ids'
   // prefix) and its pose is drawn; `check_controllers`: whether a robot's
   // controller must be one of spec_.controllers.
-  bool ReadEntity(const ConfigNode& node, bool is_template, bool check_controllers, EntityDesc& desc);
+  bool ReadEntity(const ConfigNode& node, bool is_template, bool check_controllers,
+                  EntityDesc& desc);
 
  private:
   Diagnostics& diag() { return context_.diagnostics; }
@@ -90,7 +93,8 @@ class SpecReader {
   void ReadMedia(const ConfigNode& root);
   void ReadControllers(const ConfigNode& root);
   template <class System>
-  void ReadDevices(const ConfigNode& section, const std::string& what, std::vector<PluginSpec>& devices);
+  void ReadDevices(const ConfigNode& section, const std::string& what,
+                   std::vector<PluginSpec>& devices);
   void ReadEngines(const ConfigNode& root);
   std::optional<Region> ReadBoundaries(const ConfigNode& engine_node);
   void ReadRenderers(const ConfigNode& root);
@@ -120,9 +124,10 @@ void SpecReader::Read(const ConfigNode& root, const ExperimentOptions& options) 
   if (spec_.length_ticks == 0 && !root.Child("loop_functions").valid()) {
     // Nothing could ever end the run.
     const ConfigNode experiment = root.Child("framework").Child("experiment");
-    experiment.Error("length", experiment.GetString("length", "0"),
-                     "length 0 runs until the loop functions end the experiment, but none are "
-                     "declared; accepted: a length > 0 (seconds), or <loop_functions> that stop the run");
+    experiment.Error(
+        "length", experiment.GetString("length", "0"),
+        "length 0 runs until the loop functions end the experiment, but none are "
+        "declared; accepted: a length > 0 (seconds), or <loop_functions> that stop the run");
   }
   diag().ThrowIfAny();
   ReadArena(root);
@@ -133,7 +138,8 @@ void SpecReader::ReadFramework(const ConfigNode& root, const ExperimentOptions& 
   const ConfigNode framework = root.Child("framework");
   if (!framework.valid()) {
     if (HasMisspelt(root, "framework")) return;
-    root.ElementError("missing <framework> (it holds <experiment length ticks_per_second random_seed>)");
+    root.ElementError(
+        "missing <framework> (it holds <experiment length ticks_per_second random_seed>)");
     return;
   }
   framework.CheckAttributes({});
@@ -149,7 +155,8 @@ void SpecReader::ReadFramework(const ConfigNode& root, const ExperimentOptions& 
   const ConfigNode experiment = framework.Child("experiment");
   if (!experiment.valid()) {
     if (HasMisspelt(framework, "experiment")) return;
-    framework.ElementError("missing <experiment length=\"seconds\" ticks_per_second=\"10\" random_seed=\"1\"/>");
+    framework.ElementError(
+        "missing <experiment length=\"seconds\" ticks_per_second=\"10\" random_seed=\"1\"/>");
     return;
   }
   experiment.CheckAttributes({"length", "ticks_per_second", "random_seed", "real_time"});
@@ -158,7 +165,8 @@ void SpecReader::ReadFramework(const ConfigNode& root, const ExperimentOptions& 
   const int64_t seed = experiment.GetInt("random_seed", 0, 0, INT64_MAX);
   if (length * tps >= 9e18) {
     experiment.Error("length", experiment.GetString("length", ""),
-                     "the experiment would last over 9e18 ticks; accepted: length * ticks_per_second < 9e18 (0: unlimited)");
+                     "the experiment would last over 9e18 ticks; accepted: length * "
+                     "ticks_per_second < 9e18 (0: unlimited)");
   }
   spec_.dt = 1.0 / tps;
   spec_.length_ticks = static_cast<uint64_t>(std::llround(length * tps));
@@ -201,8 +209,9 @@ void SpecReader::ReadMedia(const ConfigNode& root) {
     child.CheckAttributes(names);
     const std::string id = child.GetString("id", child.name());
     if (const auto [it, fresh] = ids.emplace(id, child.line()); !fresh) {
-      child.Error("id", id, "duplicate medium id '" + id + "' (first at line " + std::to_string(it->second) +
-                                "); give each medium its own id");
+      child.Error("id", id,
+                  "duplicate medium id '" + id + "' (first at line " + std::to_string(it->second) +
+                      "); give each medium its own id");
       continue;
     }
     spec_.media.push_back(PluginSpec{child.name(), "default", id, child});
@@ -220,7 +229,8 @@ void SpecReader::ReadControllers(const ConfigNode& root) {
     const std::string id = node.RequireString("id");
     if (!id.empty()) {
       if (ids.count(id)) {
-        node.Error("id", id, "controller id '" + id + "' already defined at line " + std::to_string(ids[id]));
+        node.Error("id", id,
+                   "controller id '" + id + "' already defined at line " + std::to_string(ids[id]));
       }
       ids[id] = node.line();
     }
@@ -228,8 +238,9 @@ void SpecReader::ReadControllers(const ConfigNode& root) {
     const auto* entry = FindPlugin<Controller>(node, "controller", node.name(), "default");
     if (!entry) {
       if (!node.Has("library")) {
-        diag().Add(Diagnostic{node.file(), node.line(), node.Label(), "library", "",
-                              "hint: a controller built as a plugin is loaded with library=\"NAME or path\""});
+        diag().Add(Diagnostic{
+            node.file(), node.line(), node.Label(), "library", "",
+            "hint: a controller built as a plugin is loaded with library=\"NAME or path\""});
       }
       continue;
     }
@@ -252,7 +263,8 @@ void SpecReader::ReadControllers(const ConfigNode& root) {
 // The device elements of a controller's <sensors> or <actuators>, their
 // attributes checked against the registered list.
 template <class System>
-void SpecReader::ReadDevices(const ConfigNode& section, const std::string& what, std::vector<PluginSpec>& devices) {
+void SpecReader::ReadDevices(const ConfigNode& section, const std::string& what,
+                             std::vector<PluginSpec>& devices) {
   for (const ConfigNode& d : section.Children()) {
     const std::string impl = d.GetString("implementation", "default");
     const auto* entry = FindPlugin<System>(d, what, d.name(), impl);
@@ -276,7 +288,9 @@ void SpecReader::ReadEngines(const ConfigNode& root) {
     names.push_back("id");
     node.CheckAttributes(names);
     const std::string id = node.RequireString("id");
-    if (ids.count(id)) node.Error("id", id, "engine id '" + id + "' already used at line " + std::to_string(ids[id]));
+    if (ids.count(id))
+      node.Error("id", id,
+                 "engine id '" + id + "' already used at line " + std::to_string(ids[id]));
     ids[id] = node.line();
     node.CheckChildren({"boundaries"});
     node.CheckAtMostOne("boundaries");
@@ -307,7 +321,8 @@ std::optional<Region> SpecReader::ReadBoundaries(const ConfigNode& engine_node) 
   }
   const ConfigNode sides = b.Child("sides");
   if (!sides.valid()) {
-    b.ElementError("missing <sides> with at least three <vertex point=\"x,y\"/>, counter-clockwise");
+    b.ElementError(
+        "missing <sides> with at least three <vertex point=\"x,y\"/>, counter-clockwise");
     return std::nullopt;
   }
   sides.CheckAttributes({"size"});
@@ -318,15 +333,18 @@ std::optional<Region> SpecReader::ReadBoundaries(const ConfigNode& engine_node) 
     const auto parts = SplitList(raw);
     double x = 0, y = 0;
     if (parts.size() != 2 || !ParseFiniteDouble(parts[0], x) || !ParseFiniteDouble(parts[1], y)) {
-      if (!raw.empty()) v.Error("point", raw, "'" + raw + "' is not two finite numbers; accepted: \"x,y\"");
+      if (!raw.empty())
+        v.Error("point", raw, "'" + raw + "' is not two finite numbers; accepted: \"x,y\"");
       continue;
     }
     region.vertices.emplace_back(x, y);
   }
-  const int64_t size = sides.GetInt("size", static_cast<int64_t>(region.vertices.size()), 3, 100000);
+  const int64_t size =
+      sides.GetInt("size", static_cast<int64_t>(region.vertices.size()), 3, 100000);
   if (size != static_cast<int64_t>(region.vertices.size())) {
-    sides.Error("size", sides.GetString("size", ""), "says " + std::to_string(size) + " vertices but " +
-                                                        std::to_string(region.vertices.size()) + " are given");
+    sides.Error("size", sides.GetString("size", ""),
+                "says " + std::to_string(size) + " vertices but " +
+                    std::to_string(region.vertices.size()) + " are given");
   }
   const std::string problem = region.Problem();
   if (!problem.empty()) {
@@ -367,7 +385,8 @@ void SpecReader::ReadLoopFunctions(const ConfigNode& root) {
     const std::string guess = DidYouMean(label, Registry<LoopFunctions>::Get().Labels());
     if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
     const auto labels = Registry<LoopFunctions>::Get().Labels();
-    message += labels.empty() ? "; none is loaded (give library=\"...\")" : "; accepted: " + Join(labels);
+    message +=
+        labels.empty() ? "; none is loaded (give library=\"...\")" : "; accepted: " + Join(labels);
     node.Error("label", label, message);
     return;
   }
@@ -396,7 +415,8 @@ void SpecReader::ReadArena(const ConfigNode& root) {
   // entities from being checked, so all are reported together.
   const size_t errors_before = diag().size();
   const auto size = arena.RequireTriple("size", {0, kMaxArenaExtent, true});
-  const auto c = arena.GetTriple("center", {0, 0, size[2] / 2}, Range::Between(-kMaxArenaExtent, kMaxArenaExtent));
+  const auto c = arena.GetTriple("center", {0, 0, size[2] / 2},
+                                 Range::Between(-kMaxArenaExtent, kMaxArenaExtent));
   if (diag().size() != errors_before) return;
   spec_.arena.size = Vec3(size[0], size[1], size[2]);
   spec_.arena.center = Vec3(c[0], c[1], c[2]);
@@ -426,8 +446,9 @@ void SpecReader::ReadFloor(const ConfigNode& floor) {
   const auto ditches = floor.Children("ditch");
   const bool too_many = static_cast<int64_t>(ditches.size()) > kMaxDitches;
   if (too_many) {
-    ditches[kMaxDitches].ElementError("the floor has " + std::to_string(ditches.size()) + " ditches; accepted: at most " +
-                                      std::to_string(kMaxDitches) + " <ditch> elements (join neighbouring ones)");
+    ditches[kMaxDitches].ElementError("the floor has " + std::to_string(ditches.size()) +
+                                      " ditches; accepted: at most " + std::to_string(kMaxDitches) +
+                                      " <ditch> elements (join neighbouring ones)");
   }
   for (const ConfigNode& d : too_many ? std::vector<ConfigNode>{} : floor.Children()) {
     d.CheckAttributes({"center", "size", "depth"});
@@ -438,19 +459,23 @@ void SpecReader::ReadFloor(const ConfigNode& floor) {
     const double depth = d.GetDouble("depth", 0.06, Range::Positive());
     if (diag().size() != before) continue;
     Ditch ditch{dc[0] - ds[0] / 2, dc[1] - ds[1] / 2, dc[0] + ds[0] / 2, dc[1] + ds[1] / 2, depth};
-    if (ditch.min_x < lo.x() || ditch.max_x > hi.x() || ditch.min_y < lo.y() || ditch.max_y > hi.y()) {
-      d.Error("center", d.GetString("center", ""), "the ditch reaches outside the arena; accepted: a centre and size "
-                                                   "keeping it within the arena's floor");
+    if (ditch.min_x < lo.x() || ditch.max_x > hi.x() || ditch.min_y < lo.y() ||
+        ditch.max_y > hi.y()) {
+      d.Error("center", d.GetString("center", ""),
+              "the ditch reaches outside the arena; accepted: a centre and size "
+              "keeping it within the arena's floor");
       continue;
     }
     if (depth >= s.z()) {
-      d.Error("depth", d.GetString("depth", ""), "the ditch is deeper than the arena is high; accepted: a depth > 0 and < " +
-                                                   FormatNumber(s.z()));
+      d.Error("depth", d.GetString("depth", ""),
+              "the ditch is deeper than the arena is high; accepted: a depth > 0 and < " +
+                  FormatNumber(s.z()));
       continue;
     }
     out.ditches.push_back(ditch);
   }
-  const std::string source = floor.GetChoice("source", {"color", "image"}, floor.Has("path") ? "image" : "color");
+  const std::string source =
+      floor.GetChoice("source", {"color", "image"}, floor.Has("path") ? "image" : "color");
   out.color = floor.GetColor("color", Color::White());
   if (source == "image") out.image = floor.RequireString("path");
 }
@@ -468,7 +493,9 @@ void SpecReader::ReadCeiling(const ConfigNode& ceiling) {
   if (out.height > top) {
     const std::string raw = ceiling.GetString("height", "");
     ceiling.Error("height", raw,
-                  "'" + raw + "' puts the ceiling above the arena's top; accepted: a height > 0 and <= the arena's height (" +
+                  "'" + raw +
+                      "' puts the ceiling above the arena's top; accepted: a height > 0 and <= the "
+                      "arena's height (" +
                       FormatNumber(top) + " m)");
     return;
   }
@@ -486,16 +513,20 @@ void SpecReader::ReadWalls(const ConfigNode& walls) {
   const double h = walls.GetDouble("height", 0.5, Range::Positive());
   const std::string color = walls.GetString("color", "gray50");
   const std::optional<Color> parsed_color = ParseColor(color);
-  if (!parsed_color) walls.Error("color", color, "'" + color + "' is not a colour; accepted: " + kColorAccepted);
+  if (!parsed_color)
+    walls.Error("color", color, "'" + color + "' is not a colour; accepted: " + kColorAccepted);
   if (2 * t >= std::min(s.x(), s.y())) {
     const std::string raw = walls.GetString("thickness", "");
-    walls.Error("thickness", raw, "walls " + raw + " m thick leave no room inside the arena; accepted: a number > 0 and < " +
-                                      FormatNumber(std::min(s.x(), s.y()) / 2) + " (half the arena's smaller side)");
+    walls.Error("thickness", raw,
+                "walls " + raw +
+                    " m thick leave no room inside the arena; accepted: a number > 0 and < " +
+                    FormatNumber(std::min(s.x(), s.y()) / 2) + " (half the arena's smaller side)");
   }
   if (h > s.z()) {
     const std::string raw = walls.GetString("height", "");
-    walls.Error("height", raw, "walls are taller than the arena; accepted: a number > 0 and <= " + FormatNumber(s.z()) +
-                                   " (the arena's height)");
+    walls.Error("height", raw,
+                "walls are taller than the arena; accepted: a number > 0 and <= " +
+                    FormatNumber(s.z()) + " (the arena's height)");
   }
   // Bad walls are reported; the entities are still checked.
   if (diag().size() != wall_errors) return;
@@ -526,7 +557,8 @@ void SpecReader::ReadWalls(const ConfigNode& walls) {
   }
 }
 
-bool SpecReader::ReadEntity(const ConfigNode& node, bool is_template, bool check_controllers, EntityDesc& desc) {
+bool SpecReader::ReadEntity(const ConfigNode& node, bool is_template, bool check_controllers,
+                            EntityDesc& desc) {
   const auto* entry = FindPlugin<EntityType>(node, "entity type", node.name(), "default");
   if (!entry) return false;
   const EntityType& type = EntityTypeInstance(*entry);
@@ -563,10 +595,12 @@ bool SpecReader::ReadEntity(const ConfigNode& node, bool is_template, bool check
       c.CheckChildren({});
       desc.controller = c.RequireString("config");
       std::vector<std::string> ids;
-      for (const ControllerSpec& controller : spec_.controllers) ids.push_back(controller.plugin.id);
+      for (const ControllerSpec& controller : spec_.controllers)
+        ids.push_back(controller.plugin.id);
       const bool found = std::find(ids.begin(), ids.end(), desc.controller) != ids.end();
       if (check_controllers && !found && !desc.controller.empty()) {
-        std::string message = "no controller with id '" + desc.controller + "' is defined in <controllers>";
+        std::string message =
+            "no controller with id '" + desc.controller + "' is defined in <controllers>";
         const std::string guess = DidYouMean(desc.controller, ids);
         if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
         message += ids.empty() ? "" : "; defined: " + Join(ids);
@@ -585,7 +619,9 @@ bool SpecReader::ReadEntity(const ConfigNode& node, bool is_template, bool check
 void SpecReader::ReadDraw(const ConfigNode& g, bool degrees, DistributeDraw& out) {
   using Method = DistributeDraw::Method;
   const std::string method = g.GetChoice("method", {"uniform", "gaussian", "constant", "grid"}, "");
-  if (!g.Has("method")) g.Error("method", "", "required attribute is missing; accepted: uniform, gaussian, constant, grid");
+  if (!g.Has("method"))
+    g.Error("method", "",
+            "required attribute is missing; accepted: uniform, gaussian, constant, grid");
   out.degrees = degrees;
   if (method == "uniform") {
     out.method = Method::kUniform;
@@ -593,7 +629,9 @@ void SpecReader::ReadDraw(const ConfigNode& g, bool degrees, DistributeDraw& out
     out.a = g.RequireTriple("min");
     out.b = g.RequireTriple("max");
     for (int k = 0; k < 3; ++k)
-      if (out.a[k] > out.b[k]) g.Error("max", g.GetString("max", ""), "each component of max must be >= the same component of min");
+      if (out.a[k] > out.b[k])
+        g.Error("max", g.GetString("max", ""),
+                "each component of max must be >= the same component of min");
   } else if (method == "gaussian") {
     out.method = Method::kGaussian;
     g.CheckAttributes({"method", "mean", "std_dev"});
@@ -613,8 +651,10 @@ void SpecReader::ReadDraw(const ConfigNode& g, bool degrees, DistributeDraw& out
     bool whole = true;
     for (double v : layout) whole = whole && v == std::floor(v);
     if (!whole || places > 1e7) {
-      g.Error("layout", g.GetString("layout", ""),
-              "'" + g.GetString("layout", "") + "' is not a usable grid; accepted: three whole numbers >= 1 (places along x, y, z) "
+      g.Error(
+          "layout", g.GetString("layout", ""),
+          "'" + g.GetString("layout", "") +
+              "' is not a usable grid; accepted: three whole numbers >= 1 (places along x, y, z) "
               "whose product is at most 10000000");
       return;
     }
@@ -632,7 +672,8 @@ void SpecReader::ReadDistribute(const ConfigNode& node) {
     if (!node.Child(part).valid()) node.ElementError(std::string("missing <") + part + ">");
   }
   if (diag().size() != errors_before) return;
-  const ConfigNode pos_node = node.Child("position"), ori_node = node.Child("orientation"), ent_node = node.Child("entity");
+  const ConfigNode pos_node = node.Child("position"), ori_node = node.Child("orientation"),
+                   ent_node = node.Child("entity");
   DistributeSpec block;
   block.line = node.line();
   block.entity_line = ent_node.line();
@@ -643,11 +684,16 @@ void SpecReader::ReadDistribute(const ConfigNode& node) {
   block.max_trials = ent_node.GetInt("max_trials", 100, 1, 1'000'000);
   block.base_num = ent_node.GetInt("base_num", 0, 0, INT64_MAX);
   const auto templates = ent_node.Children();
-  if (templates.size() != 1) ent_node.ElementError("must hold exactly one entity element (e.g. <marxbot id=\"mb\">), found " + std::to_string(templates.size()));
+  if (templates.size() != 1)
+    ent_node.ElementError(
+        "must hold exactly one entity element (e.g. <marxbot id=\"mb\">), found " +
+        std::to_string(templates.size()));
   if (diag().size() != errors_before) return;
-  if (block.position.method == DistributeDraw::Method::kGrid && block.position.places() < block.quantity) {
-    pos_node.Error("layout", pos_node.GetString("layout", ""), "the grid has " + std::to_string(block.position.places()) +
-                                                                    " places, fewer than quantity=" + std::to_string(block.quantity));
+  if (block.position.method == DistributeDraw::Method::kGrid &&
+      block.position.places() < block.quantity) {
+    pos_node.Error("layout", pos_node.GetString("layout", ""),
+                   "the grid has " + std::to_string(block.position.places()) +
+                       " places, fewer than quantity=" + std::to_string(block.quantity));
     return;
   }
   // The template is read once; each entity is a copy with its own id and pose.
@@ -662,8 +708,9 @@ ExperimentSpec ReadExperimentSpec(const ExperimentOptions& options) {
   spec.file = options.file.empty() ? std::string("<string>") : options.file;
   spec.document = std::make_shared<SpecDocument>();
   spec.document->context.file = spec.file;
-  const std::string text =
-      options.text.empty() && !options.file.empty() ? ReadExperimentText(options.file) : options.text;
+  const std::string text = options.text.empty() && !options.file.empty()
+                               ? ReadExperimentText(options.file)
+                               : options.text;
   tinyxml2::XMLDocument& doc = *spec.document->xml;
   ParseExperimentXml(text, spec.file, doc);
   for (const auto& o : options.overrides) ApplyOverride(doc, o, spec.file);

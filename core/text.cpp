@@ -34,7 +34,8 @@ std::vector<std::string> SplitList(std::string_view text, char separator) {
   size_t start = 0;
   while (true) {
     const size_t end = text.find(separator, start);
-    parts.push_back(Trim(text.substr(start, end == std::string_view::npos ? text.npos : end - start)));
+    parts.push_back(
+        Trim(text.substr(start, end == std::string_view::npos ? text.npos : end - start)));
     if (end == std::string_view::npos) break;
     start = end + 1;
   }
@@ -47,8 +48,8 @@ std::string ParseWholeOption(const std::string& option, const std::string& text,
   errno = 0;
   const long long v = std::strtoll(text.c_str(), &end, 10);
   if (text.empty() || *end != '\0' || errno == ERANGE || v < min || v > max) {
-    return option + ": '" + text + "' is not accepted; expected a whole number in [" + std::to_string(min) +
-           ", " + std::to_string(max) + "]";
+    return option + ": '" + text + "' is not accepted; expected a whole number in [" +
+           std::to_string(min) + ", " + std::to_string(max) + "]";
   }
   value = v;
   return "";

@@ -20,6 +20,7 @@ std::string ReadExperimentText(const std::string& file);
 // Parses `text` into `doc` and checks that it holds one root element, <colony>
 // or <argos-configuration>, followed only by comments. Throws ConfigError
 // naming `file` and the line.
-void ParseExperimentXml(const std::string& text, const std::string& file, tinyxml2::XMLDocument& doc);
+void ParseExperimentXml(const std::string& text, const std::string& file,
+                        tinyxml2::XMLDocument& doc);
 
 }  // namespace colony

@@ -22,7 +22,8 @@ class CellGrid {
     const double wx = std::max(hi.x() - lo.x(), 1e-9), wy = std::max(hi.y() - lo.y(), 1e-9);
     const double limit = std::max<double>(4096, 4.0 * count);
     while (std::ceil(wx / cell) * std::ceil(wy / cell) > limit) cell *= 1.25;
-    const int nx = static_cast<int>(std::ceil(wx / cell)), ny = static_cast<int>(std::ceil(wy / cell));
+    const int nx = static_cast<int>(std::ceil(wx / cell)),
+              ny = static_cast<int>(std::ceil(wy / cell));
     if (nx == nx_ && ny == ny_ && cell == cell_ && min_x_ == lo.x() && min_y_ == lo.y()) return;
     cell_ = cell;
     inv_cell_ = 1.0 / cell;
@@ -34,12 +35,15 @@ class CellGrid {
   }
   double cell_size() const { return cell_; }
   // The cell of (x, y); positions outside the arena are in its edge cells.
-  uint32_t CellOf(double x, double y) const { return static_cast<uint32_t>(CellY(y)) * nx_ + CellX(x); }
+  uint32_t CellOf(double x, double y) const {
+    return static_cast<uint32_t>(CellY(y)) * nx_ + CellX(x);
+  }
 
   // Sorts `unsorted` into `sorted` by the cells in `cell_of` (same order
   // within a cell).
   template <class T>
-  void Sort(const std::vector<T>& unsorted, const std::vector<uint32_t>& cell_of, size_t n, std::vector<T>& sorted) {
+  void Sort(const std::vector<T>& unsorted, const std::vector<uint32_t>& cell_of, size_t n,
+            std::vector<T>& sorted) {
     std::fill(start_.begin(), start_.end(), 0u);
     for (size_t k = 0; k < n; ++k) ++start_[cell_of[k] + 1];
     for (size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];

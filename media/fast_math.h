@@ -14,9 +14,10 @@ namespace colony {
 // evaluated as t p(t^2), p a degree-8 polynomial fitted by Chebyshev
 // interpolation of atan(sqrt(s)) / sqrt(s) on [0, 1].
 inline double FastAtan2(double y, double x) {
-  static constexpr double kC[] = {0.9999999817886558,   -0.3333303670929285,  0.1999187202926431,
-                                  -0.1419779779540799,  0.10618370642479312,  -0.07456854838521723,
-                                  0.04213762374570251,  -0.015731249223588546, 0.0027662835283182277};
+  static constexpr double kC[] = {
+      0.9999999817886558,  -0.3333303670929285,   0.1999187202926431,
+      -0.1419779779540799, 0.10618370642479312,   -0.07456854838521723,
+      0.04213762374570251, -0.015731249223588546, 0.0027662835283182277};
   const double ax = std::abs(x), ay = std::abs(y);
   const double hi = std::max(ax, ay), lo = std::min(ax, ay);
   const double t = hi > 0 ? lo / hi : 0.0;

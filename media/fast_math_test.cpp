@@ -35,7 +35,8 @@ TEST(FastAtan2, SinglePrecisionAgreesWithTheLibraryWithin4e7) {
   double worst = 0;
   for (int i = 0; i < 1000000; ++i) {
     const float x = u(gen), y = u(gen);
-    worst = std::max(worst, std::abs(FastAtan2f(y, x) - std::atan2(static_cast<double>(y), static_cast<double>(x))));
+    worst = std::max(worst, std::abs(FastAtan2f(y, x) -
+                                     std::atan2(static_cast<double>(y), static_cast<double>(x))));
   }
   EXPECT_LT(worst, 4e-7);
   EXPECT_EQ(FastAtan2f(0.0f, 1.0f), 0.0f);

@@ -64,7 +64,8 @@ void OccluderGrid::Build(const Space& space, double cell) {
       for (int cx = x0; cx <= x1; ++cx) f(static_cast<size_t>(cy) * nx_ + cx, first);
     }
   };
-  for (size_t b = 0; b < bodies_.size(); ++b) for_each_cell(b, [&](size_t c, uint32_t) { ++cell_start_[c + 1]; });
+  for (size_t b = 0; b < bodies_.size(); ++b)
+    for_each_cell(b, [&](size_t c, uint32_t) { ++cell_start_[c + 1]; });
   for (size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
   cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
   records_.resize(cell_start_.back());

@@ -125,7 +125,8 @@ class OccluderGrid {
         const size_t c = static_cast<size_t>(cy) * nx_ + cx;
         for (uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
           // A body in several cells: only in the first one the query covers.
-          const int fx = static_cast<int>(first_cell_[k] & 0xFFFF), fy = static_cast<int>(first_cell_[k] >> 16);
+          const int fx = static_cast<int>(first_cell_[k] & 0xFFFF),
+                    fy = static_cast<int>(first_cell_[k] >> 16);
           if (cx != std::max(cx0, fx) || cy != std::max(cy0, fy)) continue;
           const Occluder& o = records_[k];
           const double dx = o.x - x, dy = o.y - y, r = reach + o.bound;
@@ -139,9 +140,10 @@ class OccluderGrid {
   int CellX(double x) const { return ClampedCellIndex((x - min_x_) * inv_cell_, nx_); }
   int CellY(double y) const { return ClampedCellIndex((y - min_y_) * inv_cell_, ny_); }
 
-  std::vector<Occluder> bodies_;     // one per solid body, in slot order
-  std::vector<std::pair<float, float>> extents_;  // half extents of each body's footprint's bounding box
-  std::vector<Occluder> records_;    // filed by cell, row by row
+  std::vector<Occluder> bodies_;  // one per solid body, in slot order
+  std::vector<std::pair<float, float>>
+      extents_;                       // half extents of each body's footprint's bounding box
+  std::vector<Occluder> records_;     // filed by cell, row by row
   std::vector<uint32_t> first_cell_;  // per record: its body's first cell, x | y << 16
   std::vector<uint32_t> cell_start_;  // nx * ny + 1
   std::vector<uint32_t> cursor_;

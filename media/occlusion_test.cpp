@@ -16,13 +16,15 @@ namespace {
 using testing::Experiment;
 using testing::LoadXml;
 
-std::string Box(const std::string& id, const std::string& size, const std::string& position, double yaw = 0) {
-  return "<box id=\"" + id + "\" size=\"" + size + "\"><body position=\"" + position + "\" orientation=\"" +
-         std::to_string(yaw) + ",0,0\"/></box>";
+std::string Box(const std::string& id, const std::string& size, const std::string& position,
+                double yaw = 0) {
+  return "<box id=\"" + id + "\" size=\"" + size + "\"><body position=\"" + position +
+         "\" orientation=\"" + std::to_string(yaw) + ",0,0\"/></box>";
 }
 
 // Everything near (x, y) from `grid`, as an Occluders list.
-Occluders Near(const OccluderGrid& grid, double x, double y, double reach, uint32_t self = 0xFFFFFFFFu) {
+Occluders Near(const OccluderGrid& grid, double x, double y, double reach,
+               uint32_t self = 0xFFFFFFFFu) {
   Occluders out;
   grid.Gather(x, y, reach, self, out);
   return out;
@@ -31,8 +33,9 @@ Occluders Near(const OccluderGrid& grid, double x, double y, double reach, uint3
 TEST(Occlusion, SegmentsThroughABodyAtItsHeightAreBlocked) {
   // A box 1 m wide (y), 0.1 m deep (x), 0.3 m high at x = 1; a cylinder of
   // radius 0.1, from z = 0 to 0.2, at (-1, 0).
-  auto sim = LoadXml(Experiment(Box("b", "0.1,1,0.3", "1,0,0") +
-                                "<cylinder id=\"c\" radius=\"0.1\" height=\"0.2\"><body position=\"-1,0,0\"/></cylinder>"));
+  auto sim = LoadXml(Experiment(
+      Box("b", "0.1,1,0.3", "1,0,0") +
+      "<cylinder id=\"c\" radius=\"0.1\" height=\"0.2\"><body position=\"-1,0,0\"/></cylinder>"));
   OccluderGrid grid;
   grid.Build(sim->space(), 1.0);
   const Occluders all = Near(grid, 0, 0, 5);
@@ -63,8 +66,9 @@ TEST(Occlusion, RotatedBoxes) {
   OccluderGrid grid;
   grid.Build(sim->space(), 1.0);
   const Occluders all = Near(grid, 0, 0, 5);
-  EXPECT_TRUE(all.Blocked(Vec3(-1, 1, 0.1), Vec3(1, -1, 0.1), 0xFFFFFFFFu));     // across it
-  EXPECT_FALSE(all.Blocked(Vec3(-1, 0.8, 0.1), Vec3(-0.1, 0.8, 0.1), 0xFFFFFFFFu));  // beside its end
+  EXPECT_TRUE(all.Blocked(Vec3(-1, 1, 0.1), Vec3(1, -1, 0.1), 0xFFFFFFFFu));  // across it
+  EXPECT_FALSE(
+      all.Blocked(Vec3(-1, 0.8, 0.1), Vec3(-0.1, 0.8, 0.1), 0xFFFFFFFFu));  // beside its end
   EXPECT_TRUE(all.Blocked(Vec3(0.5, 0, 0.1), Vec3(0, 0.5, 0.1), 0xFFFFFFFFu));
 }
 
@@ -73,13 +77,15 @@ TEST(Occlusion, GridGathersEveryBodyOnceWhateverTheCellSize) {
   // the answer from the bodies gathered around the segment's start must be
   // that of testing every body, and no body may be gathered twice.
   std::mt19937 gen(9);
-  std::uniform_real_distribution<double> u(-4.5, 4.5), inner(-3.2, 3.2), turn(0, 180), size(0.05, 2.5);
+  std::uniform_real_distribution<double> u(-4.5, 4.5), inner(-3.2, 3.2), turn(0, 180),
+      size(0.05, 2.5);
   std::string arena;
   for (int i = 0; i < 60; ++i) {
     arena += Box("b" + std::to_string(i), std::to_string(size(gen)) + ",0.05,0.3",
                  std::to_string(inner(gen)) + "," + std::to_string(inner(gen)) + ",0", turn(gen));
-    arena += "<cylinder id=\"c" + std::to_string(i) + "\" radius=\"0.1\" height=\"0.2\"><body position=\"" +
-             std::to_string(u(gen)) + "," + std::to_string(u(gen)) + ",0\"/></cylinder>";
+    arena += "<cylinder id=\"c" + std::to_string(i) +
+             "\" radius=\"0.1\" height=\"0.2\"><body position=\"" + std::to_string(u(gen)) + "," +
+             std::to_string(u(gen)) + ",0\"/></cylinder>";
   }
   auto sim = LoadXml(Experiment(arena, "", "10,10,1"));
   OccluderGrid everything;

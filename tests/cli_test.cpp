@@ -30,17 +30,21 @@ Result Colony(const std::string& args) {
 
 using colony::testing::ReadFile;
 
-fs::path TempDir(const std::string& name) { return colony::testing::FreshTempDir("colony_cli_test", name); }
+fs::path TempDir(const std::string& name) {
+  return colony::testing::FreshTempDir("colony_cli_test", name);
+}
 
 TEST(Cli, DemoShortenedWritesTheOutputContract) {
   const fs::path out = TempDir("demo");
-  const Result r = Colony("run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --set framework.experiment.length=5 --out " +
+  const Result r = Colony("run " COLONY_SOURCE_DIR
+                          "/experiments/diffusion.xml --set framework.experiment.length=5 --out " +
                           out.string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("results in " + out.string()), std::string::npos) << r.output;
   const std::string summary = ReadFile(out / "summary.json");
-  for (const char* key : {"\"ticks\": 50", "\"simulated_seconds\": 5", "\"wall_seconds\"", "\"robots\": 120",
-                          "\"threads\": 2", "\"seed\": 1", "\"robot_steps_per_second\"", "\"final_state_hash\": \""}) {
+  for (const char* key : {"\"ticks\": 50", "\"simulated_seconds\": 5", "\"wall_seconds\"",
+                          "\"robots\": 120", "\"threads\": 2", "\"seed\": 1",
+                          "\"robot_steps_per_second\"", "\"final_state_hash\": \""}) {
     EXPECT_NE(summary.find(key), std::string::npos) << key << " missing in\n" << summary;
   }
   // The resolved experiment carries the override.
@@ -62,7 +66,9 @@ TEST(Cli, DemoShortenedWritesTheOutputContract) {
 
 TEST(Cli, SeedAndThreadsFromCommandLine) {
   const fs::path a = TempDir("a"), b = TempDir("b"), c = TempDir("c");
-  const std::string base = "run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --quiet --set framework.experiment.length=3 ";
+  const std::string base =
+      "run " COLONY_SOURCE_DIR
+      "/experiments/diffusion.xml --quiet --set framework.experiment.length=3 ";
   ASSERT_EQ(Colony(base + "--threads 1 --seed 5 --out " + a.string()).status, 0);
   ASSERT_EQ(Colony(base + "--threads 2 --seed 5 --out " + b.string()).status, 0);
   ASSERT_EQ(Colony(base + "--threads 2 --seed 6 --out " + c.string()).status, 0);
@@ -81,8 +87,10 @@ TEST(Cli, SeedAndThreadsFromCommandLine) {
 // summary.json say 1 thread, not 0.
 TEST(Cli, ZeroThreadsAreReportedAsOne) {
   const fs::path out = TempDir("zero_threads");
-  const Result r = Colony("run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --threads 0 "
-                          "--set framework.experiment.length=1 --out " + out.string());
+  const Result r = Colony("run " COLONY_SOURCE_DIR
+                          "/experiments/diffusion.xml --threads 0 "
+                          "--set framework.experiment.length=1 --out " +
+                          out.string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find(", 1 thread)"), std::string::npos) << r.output;
   EXPECT_NE(ReadFile(out / "summary.json").find("\"threads\": 1,"), std::string::npos);
@@ -91,17 +99,22 @@ TEST(Cli, ZeroThreadsAreReportedAsOne) {
 
 // A huge arena is refused with exit status 2 naming the attribute, at once.
 TEST(Cli, HugeArenaExitsWithStatus2) {
-  const Result r = Colony("run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --set arena.size=1e9,1e9,1e9");
+  const Result r =
+      Colony("run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --set arena.size=1e9,1e9,1e9");
   EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("<arena> attribute 'size': '1e9,1e9,1e9' is out of range; accepted: a number in "
-                          "(0, 100000]"),
+  EXPECT_NE(r.output.find(
+                "<arena> attribute 'size': '1e9,1e9,1e9' is out of range; accepted: a number in "
+                "(0, 100000]"),
             std::string::npos)
       << r.output;
 }
 
 TEST(Cli, QuietPrintsNothing) {
   const fs::path out = TempDir("quiet");
-  const Result r = Colony("run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --quiet --set framework.experiment.length=1 --out " + out.string());
+  const Result r =
+      Colony("run " COLONY_SOURCE_DIR
+             "/experiments/diffusion.xml --quiet --set framework.experiment.length=1 --out " +
+             out.string());
   EXPECT_EQ(r.status, 0);
   EXPECT_EQ(r.output, "");
   fs::remove_all(out);
@@ -114,10 +127,13 @@ TEST(Cli, BadCommandLinesExitWithStatus2AndSayWhy) {
       {"", "usage"},
       {"fly", "unknown command 'fly'"},
       {"run", "needs an experiment file"},
-      {"run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --threads -1", "--threads: '-1' is not accepted"},
-      {"run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --threads two", "--threads: 'two' is not accepted"},
+      {"run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --threads -1",
+       "--threads: '-1' is not accepted"},
+      {"run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --threads two",
+       "--threads: 'two' is not accepted"},
       {"run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --seed", "--seed needs a value"},
-      {"run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --frobnicate", "unknown option '--frobnicate'"},
+      {"run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --frobnicate",
+       "unknown option '--frobnicate'"},
       {"run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --set length", "expected PATH=VALUE"},
       {"run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --set framework.experiment.length=-3",
        "attribute 'length': '-3' is out of range"},
@@ -135,7 +151,9 @@ TEST(Cli, BadCommandLinesExitWithStatus2AndSayWhy) {
 
 TEST(Cli, BadInputLeavesNoResult) {
   const fs::path out = TempDir("bad");
-  const Result r = Colony("run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --set arena.size=0,0,0 --out " + out.string());
+  const Result r =
+      Colony("run " COLONY_SOURCE_DIR "/experiments/diffusion.xml --set arena.size=0,0,0 --out " +
+             out.string());
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_FALSE(fs::exists(out / "summary.json"));
 }
@@ -143,9 +161,9 @@ TEST(Cli, BadInputLeavesNoResult) {
 TEST(Cli, QueryListsPluginsWithTheirAttributes) {
   const Result all = Colony("query");
   ASSERT_EQ(all.status, 0) << all.output;
-  for (const char* label : {"marxbot", "foot-bot", "box", "cylinder", "light", "kinematics2d", "proximity", "ground",
-                            "positioning", "wheel_encoders", "differential_steering", "leds", "diffusion",
-                            "diffusion_metrics"}) {
+  for (const char* label : {"marxbot", "foot-bot", "box", "cylinder", "light", "kinematics2d",
+                            "proximity", "ground", "positioning", "wheel_encoders",
+                            "differential_steering", "leds", "diffusion", "diffusion_metrics"}) {
     EXPECT_NE(all.output.find(label), std::string::npos) << label;
   }
   const Result one = Colony("query proximity");
@@ -162,14 +180,18 @@ TEST(Cli, QueryListsPluginsWithTheirAttributes) {
 TEST(Cli, QueryShowsWhatEachPhysicsModelSimulates) {
   const Result models = Colony("query physics_model");
   ASSERT_EQ(models.status, 0) << models.output;
-  EXPECT_NE(models.output.find("kinematics2d:marxbot\n      circular footprint moved by its differential drive; stops "
-                               "at obstacles\n      simulates: drive\n"),
-            std::string::npos)
+  EXPECT_NE(
+      models.output.find(
+          "kinematics2d:marxbot\n      circular footprint moved by its differential drive; stops "
+          "at obstacles\n      simulates: drive\n"),
+      std::string::npos)
       << models.output;
   EXPECT_NE(models.output.find("simulates: drive, gripper"), std::string::npos) << models.output;
-  EXPECT_NE(models.output.find("simulates: drive, manipulator"), std::string::npos) << models.output;
-  EXPECT_NE(models.output.find("kinematics2d:box\n      fixed obstacle, movable or not (not pushed in this "
-                               "engine)\n      simulates: (no components)\n"),
+  EXPECT_NE(models.output.find("simulates: drive, manipulator"), std::string::npos)
+      << models.output;
+  EXPECT_NE(models.output.find(
+                "kinematics2d:box\n      fixed obstacle, movable or not (not pushed in this "
+                "engine)\n      simulates: (no components)\n"),
             std::string::npos)
       << models.output;
 }

@@ -24,7 +24,8 @@ double Metric(const Simulation& sim, const std::string& name) {
   return NAN;
 }
 
-Outcome RunExperiment(const std::string& file, uint64_t seed, std::vector<std::string> overrides = {}) {
+Outcome RunExperiment(const std::string& file, uint64_t seed,
+                      std::vector<std::string> overrides = {}) {
   ExperimentOptions options;
   options.file = COLONY_SOURCE_DIR "/experiments/" + file;
   options.seed = seed;
@@ -87,12 +88,16 @@ TEST(construction, BadParametersAreNamed) {
     if (at != std::string::npos) x.replace(at, from.size(), to);
     return LoadError(x);
   };
-  const std::string two_cubes = with("cubes=\"0.25,0.25;0.75,0.25;0.75,-0.25\"", "cubes=\"0.25,0.25;0.75,0.25\"");
-  EXPECT_NE(two_cubes.find("a tower takes 3 cubes, the list has 2"), std::string::npos) << two_cubes;
+  const std::string two_cubes =
+      with("cubes=\"0.25,0.25;0.75,0.25;0.75,-0.25\"", "cubes=\"0.25,0.25;0.75,0.25\"");
+  EXPECT_NE(two_cubes.find("a tower takes 3 cubes, the list has 2"), std::string::npos)
+      << two_cubes;
   const std::string bad_point = with("site=\"0.5,0\"", "site=\"0.5\"");
-  EXPECT_NE(bad_point.find("parameter 'site': '0.5' is not \"x,y\""), std::string::npos) << bad_point;
+  EXPECT_NE(bad_point.find("parameter 'site': '0.5' is not \"x,y\""), std::string::npos)
+      << bad_point;
   const std::string bad_task = with("<params task=\"tower\"/>", "<params task=\"roof\"/>");
-  EXPECT_NE(bad_task.find("'roof' is not accepted; accepted: bridge, tower"), std::string::npos) << bad_task;
+  EXPECT_NE(bad_task.find("'roof' is not accepted; accepted: bridge, tower"), std::string::npos)
+      << bad_task;
 }
 
 }  // namespace

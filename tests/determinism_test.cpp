@@ -33,10 +33,13 @@ TEST(Determinism, DenseCollidingSceneSameHashWhateverTheThreadCount) {
       "<walls thickness=\"0.1\" height=\"0.5\"/>"
       "<distribute><position method=\"uniform\" min=\"-1.4,-1.4,0\" max=\"1.4,1.4,0\"/>"
       "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
-      "<entity quantity=\"150\" max_trials=\"1000\"><marxbot id=\"mb\"><controller config=\"dc\"/></marxbot></entity>"
+      "<entity quantity=\"150\" max_trials=\"1000\"><marxbot id=\"mb\"><controller "
+      "config=\"dc\"/></marxbot></entity>"
       "</distribute>",
-      "<diffusion id=\"dc\" library=\"diffusion\"><actuators><differential_steering/><leds color=\"red\"/></actuators>"
-      "<sensors><proximity noise=\"gaussian\" noise_std_dev=\"0.05\"/><wheel_encoders slip=\"0.1\"/>"
+      "<diffusion id=\"dc\" library=\"diffusion\"><actuators><differential_steering/><leds "
+      "color=\"red\"/></actuators>"
+      "<sensors><proximity noise=\"gaussian\" noise_std_dev=\"0.05\"/><wheel_encoders "
+      "slip=\"0.1\"/>"
       "<positioning noise=\"uniform\" noise_range=\"-0.01,0.01\"/><ground/></sensors>"
       "<params velocity=\"0.3\"/></diffusion>",
       "3.2,3.2,1");

@@ -10,16 +10,19 @@ namespace {
 
 // Walls, one robot, a <distribute> block of boxes, two engines (lines 2-8).
 const char kFile[] =
-    "<colony><framework><system threads=\"2\"/><experiment length=\"5\" ticks_per_second=\"20\" random_seed=\"9\"/>"
+    "<colony><framework><system threads=\"2\"/><experiment length=\"5\" ticks_per_second=\"20\" "
+    "random_seed=\"9\"/>"
     "</framework><controllers/>\n"
     "<arena size=\"6,4,1\" center=\"0,0,0.5\">\n"
     "<walls thickness=\"0.1\" height=\"0.3\" color=\"red\"/>\n"
     "<cylinder id=\"post\" radius=\"0.1\" height=\"0.5\"><body position=\"1,1,0\"/></cylinder>\n"
     "<distribute><position method=\"uniform\" min=\"-2,-1,0\" max=\"2,1,0\"/>"
     "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>\n"
-    "<entity quantity=\"5\" base_num=\"10\"><box id=\"crate\" size=\"0.1,0.1,0.1\" movable=\"true\"/></entity></distribute>\n"
+    "<entity quantity=\"5\" base_num=\"10\"><box id=\"crate\" size=\"0.1,0.1,0.1\" "
+    "movable=\"true\"/></entity></distribute>\n"
     "</arena>\n"
-    "<physics_engines><dynamics2d id=\"d2d\"/></physics_engines><output hash_every=\"3\"/></colony>";
+    "<physics_engines><dynamics2d id=\"d2d\"/></physics_engines><output "
+    "hash_every=\"3\"/></colony>";
 
 ExperimentSpec ReadText(const std::string& text) {
   ExperimentOptions options;
@@ -76,7 +79,8 @@ TEST(ExperimentSpec, CreatesWhatItHolds) {
   auto sim = Simulation::Create(spec);
   EXPECT_EQ(sim->threads(), 2);
   EXPECT_EQ(sim->length_ticks(), 100u);
-  for (const char* id : {"wall_north", "wall_south", "wall_east", "wall_west", "post", "crate10", "crate14"}) {
+  for (const char* id :
+       {"wall_north", "wall_south", "wall_east", "wall_west", "post", "crate10", "crate14"}) {
     EXPECT_TRUE(sim->space().Find(id).valid()) << id;
   }
   EXPECT_FALSE(sim->space().Find("crate15").valid());
@@ -124,8 +128,8 @@ TEST(ExperimentSpec, ProblemsFoundBuildingNameTheSpecLines) {
     Simulation::Create(spec);
     ADD_FAILURE() << "a duplicate id was accepted";
   } catch (const ConfigError& e) {
-    EXPECT_TRUE(Mentions(e.what(), {"<string>:42:", "<cylinder id=\"post\">", "duplicate entity id 'post'",
-                                    "first defined at line 4"}));
+    EXPECT_TRUE(Mentions(e.what(), {"<string>:42:", "<cylinder id=\"post\">",
+                                    "duplicate entity id 'post'", "first defined at line 4"}));
   }
 }
 

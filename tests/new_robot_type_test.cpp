@@ -67,8 +67,8 @@ class RoverModel : public Dynamics3dModel {
       d.travelled_right = d.right * dt;
     }
   }
-  void ModifyContacts(Engine& engine, dGeomID wheel, bool wheel_first, double mu, dContact* contacts,
-                      int n) override {
+  void ModifyContacts(Engine& engine, dGeomID wheel, bool wheel_first, double mu,
+                      dContact* contacts, int n) override {
     const DriveState& d = *engine.entities().drive(Engine::OwnerOf(wheel));
     const double speed = Engine::PartOf(wheel) == 0 ? d.left : d.right;
     dynamics3d::DriveTreadContacts(wheel, wheel_first, speed, mu, mu, 0.005, contacts, n);
@@ -91,7 +91,8 @@ TEST(NewRobotType, ARoverDefinedOutsideTheEngineDrivesBesideAMarxbot) {
   auto sim = testing::LoadXml(testing::Experiment(
       "<test_rover id=\"rover\"><body position=\"-1,0.5,0\" orientation=\"0,0,0\"/>"
       "<controller config=\"idle\"/></test_rover>"
-      "<marxbot id=\"mb\"><body position=\"-1,-0.5,0\" orientation=\"0,0,0\"/><controller config=\"idle\"/></marxbot>",
+      "<marxbot id=\"mb\"><body position=\"-1,-0.5,0\" orientation=\"0,0,0\"/><controller "
+      "config=\"idle\"/></marxbot>",
       "<rover_idle id=\"idle\"/>", "4,4,1", "", "<dynamics3d id=\"d3d\"/>"));
   Space& space = sim->space();
   const uint32_t rover = space.Find("rover").index, mb = space.Find("mb").index;

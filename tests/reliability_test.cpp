@@ -22,7 +22,9 @@ namespace {
 namespace fs = std::filesystem;
 using colony::testing::ReadFile;
 
-fs::path TempDir(const std::string& name) { return colony::testing::FreshTempDir("colony_reliability_test", name); }
+fs::path TempDir(const std::string& name) {
+  return colony::testing::FreshTempDir("colony_reliability_test", name);
+}
 
 // A started `colony` process, its output going to a log file.
 struct Process {
@@ -66,7 +68,9 @@ std::vector<std::string> Lines(const std::string& text) {
   return lines;
 }
 
-size_t Fields(const std::string& line) { return static_cast<size_t>(std::count(line.begin(), line.end(), ',')) + 1; }
+size_t Fields(const std::string& line) {
+  return static_cast<size_t>(std::count(line.begin(), line.end(), ',')) + 1;
+}
 
 // Every line of a CSV file is a whole row: it ends with a newline and has
 // the header's number of fields. Returns the rows (header excluded).
@@ -85,20 +89,22 @@ uint64_t TickOf(const std::string& row) { return std::stoull(row.substr(0, row.f
 
 // A one-robot experiment with the test controller in `mode` from tick `at`
 // on, and the diffusion metrics every tick.
-fs::path MisbehaveExperiment(const fs::path& dir, const std::string& mode, int at, int length_seconds) {
+fs::path MisbehaveExperiment(const fs::path& dir, const std::string& mode, int at,
+                             int length_seconds) {
   fs::create_directories(dir);
   const fs::path file = dir / (mode + ".xml");
-  std::ofstream(file) << "<colony><framework><experiment length=\"" << length_seconds
-                      << "\" ticks_per_second=\"10\" random_seed=\"1\"/></framework>"
-                         "<controllers><sweep_misbehave id=\"m\" library=\"" COLONY_BINARY_DIR
-                         "/tests/plugins/libsweep_misbehave.so\"><params mode=\""
-                      << mode << "\" at=\"" << at
-                      << "\"/></sweep_misbehave></controllers>"
-                         "<loop_functions label=\"diffusion_metrics\" library=\"diffusion_metrics\"/>"
-                         "<arena size=\"2,2,1\" center=\"0,0,0.5\"><marxbot id=\"r\"><body position=\"0,0,0\"/>"
-                         "<controller config=\"m\"/></marxbot></arena>"
-                         "<physics_engines><kinematics2d id=\"k2d\"/></physics_engines>"
-                         "<output metrics_every=\"1\" hash_every=\"1\"/></colony>";
+  std::ofstream(file)
+      << "<colony><framework><experiment length=\"" << length_seconds
+      << "\" ticks_per_second=\"10\" random_seed=\"1\"/></framework>"
+         "<controllers><sweep_misbehave id=\"m\" library=\"" COLONY_BINARY_DIR
+         "/tests/plugins/libsweep_misbehave.so\"><params mode=\""
+      << mode << "\" at=\"" << at
+      << "\"/></sweep_misbehave></controllers>"
+         "<loop_functions label=\"diffusion_metrics\" library=\"diffusion_metrics\"/>"
+         "<arena size=\"2,2,1\" center=\"0,0,0.5\"><marxbot id=\"r\"><body position=\"0,0,0\"/>"
+         "<controller config=\"m\"/></marxbot></arena>"
+         "<physics_engines><kinematics2d id=\"k2d\"/></physics_engines>"
+         "<output metrics_every=\"1\" hash_every=\"1\"/></colony>";
   return file;
 }
 
@@ -129,15 +135,17 @@ const std::string kDiffusion = COLONY_SOURCE_DIR "/experiments/diffusion.xml";
 TEST(Reliability, DiskFillingUpMidRunFailsNamingTheFileAndReason) {
   const fs::path root = TempDir("full_mid");
   TinyDisk disk(root / "disk", "48k");
-  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (" << disk.why() << "); needs root";
+  if (!disk.mounted())
+    GTEST_SKIP() << "cannot mount a tmpfs here (" << disk.why() << "); needs root";
   // 120 robots, a metrics row every tick for 300 s: far more than 48 KiB.
   const fs::path out = root / "disk" / "run";
   const auto [status, output] =
       RunColony({"run", kDiffusion, "--quiet", "--set", "framework.experiment.length=300", "--set",
-           "output.metrics_every=1", "--out", out.string()},
-          root / "log");
+                 "output.metrics_every=1", "--out", out.string()},
+                root / "log");
   EXPECT_EQ(status, 1) << output;
-  EXPECT_NE(output.find("cannot write '" + (out / "metrics.csv").string() + "'"), std::string::npos) << output;
+  EXPECT_NE(output.find("cannot write '" + (out / "metrics.csv").string() + "'"), std::string::npos)
+      << output;
   EXPECT_NE(output.find("No space left on device"), std::string::npos) << output;
   EXPECT_EQ(output.find("results in"), std::string::npos) << output;
   // What is there is whole rows; nothing says the run finished.
@@ -150,16 +158,17 @@ TEST(Reliability, DiskFillingUpMidRunFailsNamingTheFileAndReason) {
 TEST(Reliability, AlreadyFullDiskFailsAtTheStart) {
   const fs::path root = TempDir("full_start");
   TinyDisk disk(root / "disk", "16k");
-  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (" << disk.why() << "); needs root";
+  if (!disk.mounted())
+    GTEST_SKIP() << "cannot mount a tmpfs here (" << disk.why() << "); needs root";
   {
     std::ofstream fill(root / "disk" / "fill");
     const std::string block(4096, 'x');
     for (int i = 0; i < 16 && fill; ++i) fill << block << std::flush;
   }
   const fs::path out = root / "disk" / "run";
-  const auto [status, output] =
-      RunColony({"run", kDiffusion, "--quiet", "--set", "framework.experiment.length=1", "--out", out.string()},
-          root / "log");
+  const auto [status, output] = RunColony({"run", kDiffusion, "--quiet", "--set",
+                                           "framework.experiment.length=1", "--out", out.string()},
+                                          root / "log");
   EXPECT_EQ(status, 1) << output;
   EXPECT_NE(output.find("No space left on device"), std::string::npos) << output;
   EXPECT_FALSE(fs::exists(out / "summary.json"));
@@ -173,7 +182,8 @@ TEST(Reliability, KillMinus9LeavesWholeRowsAndNoSummary) {
   ASSERT_GT(p.pid, 0);
   // Rows are written out at least every second.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (Lines(ReadFile(out / "metrics.csv")).size() < 10 && std::chrono::steady_clock::now() < deadline) {
+  while (Lines(ReadFile(out / "metrics.csv")).size() < 10 &&
+         std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
@@ -194,13 +204,15 @@ TEST(Reliability, SummaryProblemRejectsWhatIsNotAFinishedRun) {
   const std::string good = s.ToJson();
   EXPECT_EQ(colony::SummaryProblem(good), "");
   EXPECT_NE(colony::SummaryProblem(""), "");
-  EXPECT_NE(colony::SummaryProblem(good.substr(0, good.size() / 2)).find("not valid JSON"), std::string::npos);
+  EXPECT_NE(colony::SummaryProblem(good.substr(0, good.size() / 2)).find("not valid JSON"),
+            std::string::npos);
   std::string no_ticks = good;
   no_ticks.replace(no_ticks.find("\"ticks\""), 7, "\"tocks\"");
   EXPECT_NE(colony::SummaryProblem(no_ticks).find("\"ticks\""), std::string::npos);
   s.completed = false;
   s.stop_reason = "interrupted by SIGINT after tick 3";
-  EXPECT_NE(colony::SummaryProblem(s.ToJson()).find("did not complete (interrupted by SIGINT"), std::string::npos);
+  EXPECT_NE(colony::SummaryProblem(s.ToJson()).find("did not complete (interrupted by SIGINT"),
+            std::string::npos);
 }
 
 TEST(Reliability, InterruptWritesWhatWasDoneAndSaysSo) {
@@ -214,8 +226,8 @@ TEST(Reliability, InterruptWritesWhatWasDoneAndSaysSo) {
   const size_t wanted_frames = 0;
   fs::create_directories(frames);
 #endif
-  std::vector<std::string> args = {"run", exp, "--quiet", "--set", "framework.experiment.length=1000",
-                                   "--out", out.string()};
+  std::vector<std::string> args = {
+      "run", exp, "--quiet", "--set", "framework.experiment.length=1000", "--out", out.string()};
   if (wanted_frames) args.insert(args.end(), {"--frames", frames.string()});
   const Process p = Start(args, dir / "log");
   ASSERT_GT(p.pid, 0);
@@ -227,7 +239,8 @@ TEST(Reliability, InterruptWritesWhatWasDoneAndSaysSo) {
     return n;
   };
   auto row_count = [&] { return Lines(ReadFile(out / "metrics.csv")).size(); };
-  while ((frame_count() < wanted_frames || row_count() < 3) && std::chrono::steady_clock::now() < deadline) {
+  while ((frame_count() < wanted_frames || row_count() < 3) &&
+         std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   Signal(p, SIGINT);
@@ -265,11 +278,14 @@ TEST(Reliability, InterruptWritesWhatWasDoneAndSaysSo) {
 TEST(Reliability, ControllerSegfaultIsReportedWithRobotControllerAndTick) {
   const fs::path dir = TempDir("segfault"), out = dir / "run";
   const fs::path exp = MisbehaveExperiment(dir, "segfault", 50, 100);
-  const auto [status, output] = RunColony({"run", exp.string(), "--quiet", "--out", out.string()}, dir / "log");
+  const auto [status, output] =
+      RunColony({"run", exp.string(), "--quiet", "--out", out.string()}, dir / "log");
   EXPECT_EQ(status, 128 + SIGSEGV) << output;
-  EXPECT_NE(output.find("crashed with SIGSEGV (segmentation fault) in controller 'sweep_misbehave' of robot 'r' "
-                        "at tick 50"),
-            std::string::npos)
+  EXPECT_NE(
+      output.find(
+          "crashed with SIGSEGV (segmentation fault) in controller 'sweep_misbehave' of robot 'r' "
+          "at tick 50"),
+      std::string::npos)
       << output;
   EXPECT_NE(output.find("libsweep_misbehave.so"), std::string::npos) << output;
   // The metrics of ticks 1 to 49 are on disk.
@@ -281,32 +297,40 @@ TEST(Reliability, ControllerSegfaultIsReportedWithRobotControllerAndTick) {
 
 TEST(Reliability, ControllerAbortIsReported) {
   const fs::path dir = TempDir("abort"), out = dir / "run";
-  const auto [status, output] =
-      RunColony({"run", MisbehaveExperiment(dir, "crash", 5, 10).string(), "--quiet", "--out", out.string()}, dir / "log");
+  const auto [status, output] = RunColony(
+      {"run", MisbehaveExperiment(dir, "crash", 5, 10).string(), "--quiet", "--out", out.string()},
+      dir / "log");
   EXPECT_EQ(status, 128 + SIGABRT) << output;
-  EXPECT_NE(output.find("crashed with SIGABRT (aborted) in controller 'sweep_misbehave' of robot 'r' at tick 5"),
-            std::string::npos)
+  EXPECT_NE(
+      output.find(
+          "crashed with SIGABRT (aborted) in controller 'sweep_misbehave' of robot 'r' at tick 5"),
+      std::string::npos)
       << output;
 }
 
 TEST(Reliability, ControllerThrowingANonStandardExceptionIsReported) {
   const fs::path dir = TempDir("throw_int"), out = dir / "run";
   const auto [status, output] =
-      RunColony({"run", MisbehaveExperiment(dir, "throw_int", 7, 10).string(), "--quiet", "--out", out.string()},
-          dir / "log");
+      RunColony({"run", MisbehaveExperiment(dir, "throw_int", 7, 10).string(), "--quiet", "--out",
+                 out.string()},
+                dir / "log");
   EXPECT_EQ(status, 1) << output;
-  EXPECT_NE(output.find("controller 'sweep_misbehave' of robot 'r' failed at tick 7: it threw something that is "
-                        "not a std::exception"),
-            std::string::npos)
+  EXPECT_NE(
+      output.find(
+          "controller 'sweep_misbehave' of robot 'r' failed at tick 7: it threw something that is "
+          "not a std::exception"),
+      std::string::npos)
       << output;
   // Known metrics are kept and the summary says the run did not complete.
   EXPECT_EQ(TickOf(ExpectWholeRows(out / "metrics.csv").back()), 6u);
-  EXPECT_NE(colony::SummaryProblem(ReadFile(out / "summary.json")).find("did not complete"), std::string::npos);
+  EXPECT_NE(colony::SummaryProblem(ReadFile(out / "summary.json")).find("did not complete"),
+            std::string::npos);
 }
 
 TEST(Reliability, OutputFoldersInUseAreRefusedUnlessOverwrite) {
   const fs::path dir = TempDir("reuse"), out = dir / "run", frames = dir / "frames";
-  const std::vector<std::string> base = {"run", kDiffusion, "--quiet", "--set", "framework.experiment.length=1"};
+  const std::vector<std::string> base = {"run", kDiffusion, "--quiet", "--set",
+                                         "framework.experiment.length=1"};
   auto with = [&](std::vector<std::string> extra) {
     std::vector<std::string> args = base;
     args.insert(args.end(), extra.begin(), extra.end());
@@ -316,7 +340,8 @@ TEST(Reliability, OutputFoldersInUseAreRefusedUnlessOverwrite) {
   ASSERT_TRUE(fs::exists(out / "hashes.csv"));
   const auto refused = with({"--out", out.string()});
   EXPECT_EQ(refused.first, 2) << refused.second;
-  EXPECT_NE(refused.second.find("--out '" + out.string() + "' is not empty (it holds experiment.xml, hashes.csv"),
+  EXPECT_NE(refused.second.find("--out '" + out.string() +
+                                "' is not empty (it holds experiment.xml, hashes.csv"),
             std::string::npos)
       << refused.second;
   EXPECT_NE(refused.second.find("--overwrite"), std::string::npos);
@@ -331,7 +356,8 @@ TEST(Reliability, OutputFoldersInUseAreRefusedUnlessOverwrite) {
   std::ofstream(frames / "old_000001.png") << "old";
   const auto frames_refused = with({"--out", (dir / "run2").string(), "--frames", frames.string()});
   EXPECT_EQ(frames_refused.first, 2) << frames_refused.second;
-  EXPECT_NE(frames_refused.second.find("--frames '" + frames.string() + "' is not empty"), std::string::npos)
+  EXPECT_NE(frames_refused.second.find("--frames '" + frames.string() + "' is not empty"),
+            std::string::npos)
       << frames_refused.second;
 }
 

@@ -22,15 +22,18 @@ class Watcher : public Controller {
 };
 COLONY_REGISTER_CONTROLLER(Watcher, "runtime_watcher", "test: records the front proximity reading");
 
-const char* kWatcher = "<runtime_watcher id=\"w\"><sensors><proximity/></sensors></runtime_watcher>";
+const char* kWatcher =
+    "<runtime_watcher id=\"w\"><sensors><proximity/></sensors></runtime_watcher>";
 
 TEST(RuntimeEntities, AddedBoxIsSeenAndRemovedBoxIsGone) {
   auto sim = testing::LoadXml(testing::Experiment(
-      "<marxbot id=\"mb\"><body position=\"0,0,0\"/><controller config=\"w\"/></marxbot>", kWatcher));
+      "<marxbot id=\"mb\"><body position=\"0,0,0\"/><controller config=\"w\"/></marxbot>",
+      kWatcher));
   auto& watcher = dynamic_cast<Watcher&>(*sim->ControllerOf(sim->space().Find("mb")));
   sim->Step();
   EXPECT_EQ(watcher.front, 0.0);
-  const EntityHandle box = sim->AddEntity("<box id=\"new_box\" size=\"0.1,0.4,0.3\"><body position=\"0.15,0,0\"/></box>");
+  const EntityHandle box = sim->AddEntity(
+      "<box id=\"new_box\" size=\"0.1,0.4,0.3\"><body position=\"0.15,0,0\"/></box>");
   ASSERT_TRUE(sim->space().IsAlive(box));
   EXPECT_EQ(sim->space().Find("new_box"), box);
   sim->Step();
@@ -44,10 +47,11 @@ TEST(RuntimeEntities, AddedBoxIsSeenAndRemovedBoxIsGone) {
 
 TEST(RuntimeEntities, RobotsCanBeAddedAndRemoved) {
   auto sim = testing::LoadXml(testing::Experiment(
-      "<marxbot id=\"mb\"><body position=\"0,0,0\"/><controller config=\"w\"/></marxbot>", kWatcher));
+      "<marxbot id=\"mb\"><body position=\"0,0,0\"/><controller config=\"w\"/></marxbot>",
+      kWatcher));
   EXPECT_EQ(sim->robot_count(), 1u);
-  const EntityHandle added =
-      sim->AddEntity("<marxbot id=\"mb2\"><body position=\"1,0,0\"/><controller config=\"w\"/></marxbot>");
+  const EntityHandle added = sim->AddEntity(
+      "<marxbot id=\"mb2\"><body position=\"1,0,0\"/><controller config=\"w\"/></marxbot>");
   EXPECT_EQ(sim->robot_count(), 2u);
   ASSERT_NE(sim->ControllerOf(added), nullptr);
   sim->Step();
@@ -55,7 +59,8 @@ TEST(RuntimeEntities, RobotsCanBeAddedAndRemoved) {
   EXPECT_EQ(sim->robot_count(), 1u);
   sim->Step();
   // A removed slot is reused with a new generation: old handles stay dead.
-  const EntityHandle again = sim->AddEntity("<box id=\"b\" size=\"0.1,0.1,0.1\"><body position=\"-1,-1,0\"/></box>");
+  const EntityHandle again =
+      sim->AddEntity("<box id=\"b\" size=\"0.1,0.1,0.1\"><body position=\"-1,-1,0\"/></box>");
   EXPECT_FALSE(sim->space().IsAlive(EntityHandle{again.index, again.generation - 1}));
 }
 
@@ -73,7 +78,9 @@ TEST(RuntimeEntities, BadAddedEntityIsRejectedWithAMessage) {
 // Drives straight ahead at 0.1 m/s.
 class Driver : public Controller {
  public:
-  void Init(const Params&) override { wheels_ = &GetActuator<DifferentialSteering>("differential_steering"); }
+  void Init(const Params&) override {
+    wheels_ = &GetActuator<DifferentialSteering>("differential_steering");
+  }
   void ControlStep() override { wheels_->SetLinearVelocity(0.1, 0.1); }
 
  private:
@@ -81,15 +88,18 @@ class Driver : public Controller {
 };
 COLONY_REGISTER_CONTROLLER(Driver, "runtime_driver", "test: drives straight ahead");
 
-const char kDriver[] = "<runtime_driver id=\"d\"><actuators><differential_steering/></actuators></runtime_driver>";
+const char kDriver[] =
+    "<runtime_driver id=\"d\"><actuators><differential_steering/></actuators></runtime_driver>";
 
 // One marXbot, on line 2.
-const char kOneRobot[] = "\n<marxbot id=\"mb\"><body position=\"0,0,0\"/><controller config=\"d\"/></marxbot>";
+const char kOneRobot[] =
+    "\n<marxbot id=\"mb\"><body position=\"0,0,0\"/><controller config=\"d\"/></marxbot>";
 
 // A marXbot description read once, as a loop function would keep it.
 EntityDesc Marxbot(const std::string& id, double x, double y) {
-  static const EntityDesc kProto =
-      ReadEntityDesc("<marxbot id=\"proto\"><body position=\"0,0,0\"/><controller config=\"d\"/></marxbot>", "<test>");
+  static const EntityDesc kProto = ReadEntityDesc(
+      "<marxbot id=\"proto\"><body position=\"0,0,0\"/><controller config=\"d\"/></marxbot>",
+      "<test>");
   EntityDesc desc = kProto;
   desc.init.id = id;
   desc.init.pose.position = Vec3(x, y, 0);
@@ -97,7 +107,8 @@ EntityDesc Marxbot(const std::string& id, double x, double y) {
 }
 
 // The message of the ConfigError AddEntity raises for `desc` ("" if added).
-std::string AddError(Simulation& sim, const EntityDesc& desc, PlacementCheck check = PlacementCheck::kNone) {
+std::string AddError(Simulation& sim, const EntityDesc& desc,
+                     PlacementCheck check = PlacementCheck::kNone) {
   try {
     sim.AddEntity(desc, check);
   } catch (const ConfigError& e) {
@@ -111,7 +122,8 @@ TEST(RuntimeEntities, RobotsAddedFromADescriptionGetAControllerAndMove) {
   ASSERT_EQ(sim->robot_count(), 0u);
   // One description, copied for each robot.
   std::vector<EntityHandle> added;
-  for (int i = 0; i < 3; ++i) added.push_back(sim->AddEntity(Marxbot("spawned" + std::to_string(i), -1, i - 1.0)));
+  for (int i = 0; i < 3; ++i)
+    added.push_back(sim->AddEntity(Marxbot("spawned" + std::to_string(i), -1, i - 1.0)));
   EXPECT_EQ(sim->robot_count(), 3u);
   for (int i = 0; i < 3; ++i) {
     ASSERT_TRUE(sim->space().IsAlive(added[i]));
@@ -148,11 +160,12 @@ TEST(RuntimeEntities, BoxesNeedNoXml) {
 TEST(RuntimeEntities, DuplicateIdIsRefused) {
   auto sim = testing::LoadXml(testing::Experiment(kOneRobot, kDriver));
   EXPECT_TRUE(testing::Mentions(AddError(*sim, Marxbot("mb", 1, 1)),
-                                {"<marxbot id=\"mb\">", "attribute 'id'", "duplicate entity id 'mb'",
-                                 "first defined at line 2"}));
+                                {"<marxbot id=\"mb\">", "attribute 'id'",
+                                 "duplicate entity id 'mb'", "first defined at line 2"}));
   EXPECT_EQ(sim->robot_count(), 1u);
   EXPECT_EQ(sim->space().alive_count(), 1u);
-  EXPECT_EQ(sim->space().pose(sim->space().Find("mb").index).position, Vec3(0, 0, 0)) << "the first one is untouched";
+  EXPECT_EQ(sim->space().pose(sim->space().Find("mb").index).position, Vec3(0, 0, 0))
+      << "the first one is untouched";
   sim->Step();
 }
 
@@ -160,8 +173,9 @@ TEST(RuntimeEntities, UnknownTypeIsRefused) {
   auto sim = testing::LoadXml(testing::Experiment("", kDriver));
   EntityDesc desc = Marxbot("m", 0, 0);
   desc.type = "marxbott";
-  EXPECT_TRUE(testing::Mentions(AddError(*sim, desc),
-                                {"unknown entity type 'marxbott'", "did you mean 'marxbot'?", "accepted:", "box"}));
+  EXPECT_TRUE(testing::Mentions(
+      AddError(*sim, desc),
+      {"unknown entity type 'marxbott'", "did you mean 'marxbot'?", "accepted:", "box"}));
   EXPECT_EQ(sim->space().alive_count(), 0u);
 }
 
@@ -177,12 +191,14 @@ TEST(RuntimeEntities, UnknownOrMissingControllerIsRefused) {
 
 TEST(RuntimeEntities, EntityOutsideEveryEngineIsRefused) {
   const std::string engines =
-      "<kinematics2d id=\"west\"><boundaries><sides><vertex point=\"-2,-2\"/><vertex point=\"0,-2\"/>"
+      "<kinematics2d id=\"west\"><boundaries><sides><vertex point=\"-2,-2\"/><vertex "
+      "point=\"0,-2\"/>"
       "<vertex point=\"0,2\"/><vertex point=\"-2,2\"/></sides></boundaries></kinematics2d>";
   auto sim = testing::LoadXml(testing::Experiment("", kDriver, "4,4,1", "", engines));
-  EXPECT_TRUE(testing::Mentions(AddError(*sim, Marxbot("east", 1, 0)),
-                                {"<marxbot id=\"east\">", "entity 'east' at (1, 0, 0) is inside no engine's <boundaries>",
-                                 "kinematics2d 'west'"}));
+  EXPECT_TRUE(testing::Mentions(
+      AddError(*sim, Marxbot("east", 1, 0)),
+      {"<marxbot id=\"east\">", "entity 'east' at (1, 0, 0) is inside no engine's <boundaries>",
+       "kinematics2d 'west'"}));
   EXPECT_EQ(sim->space().alive_count(), 0u);
   EXPECT_EQ(sim->robot_count(), 0u);
   // Inside it is fine.
@@ -192,10 +208,12 @@ TEST(RuntimeEntities, EntityOutsideEveryEngineIsRefused) {
 
 TEST(RuntimeEntities, PlacementIsCheckedWhenAsked) {
   auto sim = testing::LoadXml(testing::Experiment(kOneRobot, kDriver));
-  EXPECT_TRUE(testing::Mentions(AddError(*sim, Marxbot("near", 0.1, 0), PlacementCheck::kClear),
-                                {"entity 'near' overlaps 'mb' (line 2)", "not overlapping solid entities"}));
-  EXPECT_TRUE(testing::Mentions(AddError(*sim, Marxbot("far", 5, 0), PlacementCheck::kClear),
-                                {"entity 'far' is outside the arena", "the arena spans x [-2, 2]"}));
+  EXPECT_TRUE(testing::Mentions(
+      AddError(*sim, Marxbot("near", 0.1, 0), PlacementCheck::kClear),
+      {"entity 'near' overlaps 'mb' (line 2)", "not overlapping solid entities"}));
+  EXPECT_TRUE(
+      testing::Mentions(AddError(*sim, Marxbot("far", 5, 0), PlacementCheck::kClear),
+                        {"entity 'far' is outside the arena", "the arena spans x [-2, 2]"}));
   EXPECT_EQ(sim->space().alive_count(), 1u);
   // Unchecked, the caller decides.
   EXPECT_TRUE(sim->space().IsAlive(sim->AddEntity(Marxbot("near", 0.1, 0))));
@@ -204,9 +222,10 @@ TEST(RuntimeEntities, PlacementIsCheckedWhenAsked) {
 
 TEST(RuntimeEntities, RobotWhoseDevicesCannotStartIsTakenOutAgain) {
   // kinematics2d simulates no manipulator, and this marXbot has none.
-  const std::string controllers = std::string(kDriver) +
-                                  "<runtime_driver id=\"m\"><actuators><differential_steering/><manipulator/>"
-                                  "</actuators></runtime_driver>";
+  const std::string controllers =
+      std::string(kDriver) +
+      "<runtime_driver id=\"m\"><actuators><differential_steering/><manipulator/>"
+      "</actuators></runtime_driver>";
   auto sim = testing::LoadXml(testing::Experiment("", controllers));
   EntityDesc desc = Marxbot("lifter", 0, 0);
   desc.controller = "m";

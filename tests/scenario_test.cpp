@@ -14,7 +14,8 @@ using testing::LoadXml;
 
 const char* kDiffusion =
     "<diffusion id=\"dc\" library=\"diffusion\"><actuators><differential_steering/></actuators>"
-    "<sensors><proximity/></sensors><params alpha=\"7.5\" delta=\"0.1\" velocity=\"VELOCITY\"/></diffusion>";
+    "<sensors><proximity/></sensors><params alpha=\"7.5\" delta=\"0.1\" "
+    "velocity=\"VELOCITY\"/></diffusion>";
 
 std::string DiffusionController(const std::string& velocity) {
   std::string c = kDiffusion;
@@ -24,10 +25,11 @@ std::string DiffusionController(const std::string& velocity) {
 
 TEST(Scenario, DiffusionRobotTurnsAwayFromWallBeforeTouching) {
   // Heading straight at the east wall (inner face at x = 1.9), 0.8 m away.
-  auto sim = LoadXml(Experiment(
-      "<walls thickness=\"0.1\" height=\"0.5\"/>"
-      "<marxbot id=\"mb\"><body position=\"1.0,0,0\" orientation=\"0,0,0\"/><controller config=\"dc\"/></marxbot>",
-      DiffusionController("0.05")));
+  auto sim =
+      LoadXml(Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>"
+                         "<marxbot id=\"mb\"><body position=\"1.0,0,0\" "
+                         "orientation=\"0,0,0\"/><controller config=\"dc\"/></marxbot>",
+                         DiffusionController("0.05")));
   const EntityHandle robot = sim->space().Find("mb");
   const double wall_face = 1.9;
   double closest_gap = 1e9;
@@ -56,14 +58,17 @@ TEST(Scenario, DiffusionRobotTurnsAwayFromWallBeforeTouching) {
 TEST(Scenario, DenseSwarmNeverOverlaps) {
   // 150 robots on 7.8 m^2 (0.05 m^2 each; a robot's own footprint is
   // 0.023) driving at top speed, so they collide constantly.
-  auto sim = LoadXml(Experiment(
-      "<walls thickness=\"0.1\" height=\"0.5\"/>"
-      "<box id=\"b\" size=\"0.5,0.5,0.3\"><body position=\"0,0,0\" orientation=\"45,0,0\"/></box>"
-      "<distribute><position method=\"uniform\" min=\"-1.4,-1.4,0\" max=\"1.4,1.4,0\"/>"
-      "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
-      "<entity quantity=\"150\" max_trials=\"1000\"><marxbot id=\"mb\"><controller config=\"dc\"/></marxbot></entity>"
-      "</distribute>",
-      DiffusionController("0.3"), "3.2,3.2,1"), {}, 2);
+  auto sim = LoadXml(
+      Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>"
+                 "<box id=\"b\" size=\"0.5,0.5,0.3\"><body position=\"0,0,0\" "
+                 "orientation=\"45,0,0\"/></box>"
+                 "<distribute><position method=\"uniform\" min=\"-1.4,-1.4,0\" max=\"1.4,1.4,0\"/>"
+                 "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
+                 "<entity quantity=\"150\" max_trials=\"1000\"><marxbot id=\"mb\"><controller "
+                 "config=\"dc\"/></marxbot></entity>"
+                 "</distribute>",
+                 DiffusionController("0.3"), "3.2,3.2,1"),
+      {}, 2);
   Space& space = sim->space();
   std::vector<uint32_t> robots, obstacles;
   for (uint32_t i = 0; i < space.slots(); ++i) {
@@ -83,7 +88,8 @@ TEST(Scenario, DenseSwarmNeverOverlaps) {
       for (size_t b = a + 1; b < robots.size(); ++b) {
         const Vec2 pb = space.pose(robots[b]).position.head<2>();
         ASSERT_GE((pa - pb).norm(), 2 * 0.085 - 1e-9)
-            << space.id(robots[a]) << " overlaps " << space.id(robots[b]) << " at tick " << sim->tick();
+            << space.id(robots[a]) << " overlaps " << space.id(robots[b]) << " at tick "
+            << sim->tick();
       }
       for (uint32_t o : obstacles) {
         ASSERT_FALSE(CircleOverlapsFootprint(pa, 0.085 - 1e-9, space.pose(o), space.geometry(o)))

@@ -182,7 +182,8 @@ TEST(Flocking, PayloadTooSmallForTheHeadingIsRejected) {
 TEST(Flocking, BadParameterIsRejectedWithItsLine) {
   const std::string message =
       LoadError(kFlocking, {"controllers.flocking[fc].params.target_distance=-1"});
-  EXPECT_TRUE(Mentions(message, {"flocking.xml:", "<params>", "attribute 'target_distance'", "-1 is out of range"}));
+  EXPECT_TRUE(Mentions(
+      message, {"flocking.xml:", "<params>", "attribute 'target_distance'", "-1 is out of range"}));
 }
 
 // --- Aggregation ------------------------------------------------------------------------------
@@ -213,7 +214,8 @@ TEST(Aggregation, WithoutNeighboursTheyDoNotStay) {
 }
 
 TEST(Aggregation, ImpossibleProbabilityIsRejected) {
-  const std::string message = LoadError(kAggregation, {"controllers.aggregation[ac].params.join_max=0.9999"});
+  const std::string message =
+      LoadError(kAggregation, {"controllers.aggregation[ac].params.join_max=0.9999"});
   EXPECT_TRUE(Mentions(message, {"aggregation.xml:", "attribute 'join_max'", "must be <= 1"}));
 }
 
@@ -242,7 +244,8 @@ TEST(Foraging, CarryingRobotsShowIt) {
     const Space& space = sim->space();
     size_t red = 0;
     for (uint32_t i = 0; i < space.slots(); ++i) {
-      if (space.alive(i) && (space.flags(i) & kRobot) && space.leds(i)[0] == Color{255, 0, 0, 255}) ++red;
+      if (space.alive(i) && (space.flags(i) & kRobot) && space.leds(i)[0] == Color{255, 0, 0, 255})
+        ++red;
     }
     ASSERT_EQ(static_cast<double>(red), carrying_before) << "at tick " << sim->tick();
     carried_at_some_point = std::max(carried_at_some_point, carrying_before);
@@ -262,8 +265,8 @@ TEST(Foraging, TheLightLeadsHome) {
 
 TEST(Foraging, BadNestIsRejectedWithItsLine) {
   const std::string message = LoadError(kForaging, {"loop_functions.params.nest=1,1,0,0"});
-  EXPECT_TRUE(Mentions(message, {"foraging.xml:", "<params>", "attribute 'nest'", "'1,1,0,0'",
-                                 "x0 < x1"}));
+  EXPECT_TRUE(
+      Mentions(message, {"foraging.xml:", "<params>", "attribute 'nest'", "'1,1,0,0'", "x0 < x1"}));
 }
 
 }  // namespace

@@ -62,7 +62,9 @@ std::string Join(const std::vector<std::string>& args) {
 
 using colony::testing::ReadFile;
 
-fs::path TempDir(const std::string& name) { return colony::testing::FreshTempDir("colony_sweep_test", name); }
+fs::path TempDir(const std::string& name) {
+  return colony::testing::FreshTempDir("colony_sweep_test", name);
+}
 
 // results.csv as rows of column -> value.
 using Table = std::vector<std::map<std::string, std::string>>;

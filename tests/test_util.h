@@ -1,18 +1,17 @@
 // Helpers for tests that build small experiments from inline XML.
 #pragma once
 
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <spawn.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <sstream>
 #include <optional>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -24,15 +23,23 @@ namespace colony::testing {
 // An experiment around `arena_body` (entities inside <arena>), with the given
 // <controllers> content, in an arena of `size` centred on the origin.
 inline std::string Experiment(const std::string& arena_body, const std::string& controllers = "",
-                              const std::string& arena_size = "4,4,1", const std::string& extra = "",
+                              const std::string& arena_size = "4,4,1",
+                              const std::string& extra = "",
                               const std::string& engines = "<kinematics2d id=\"k2d\"/>") {
-  return "<colony><framework><experiment length=\"10\" ticks_per_second=\"10\" random_seed=\"7\"/></framework>"
-         "<controllers>" + controllers + "</controllers>"
-         "<arena size=\"" + arena_size + "\" center=\"0,0,0.5\">" + arena_body + "</arena>"
-         "<physics_engines>" + engines + "</physics_engines>" + extra + "</colony>";
+  return "<colony><framework><experiment length=\"10\" ticks_per_second=\"10\" "
+         "random_seed=\"7\"/></framework>"
+         "<controllers>" +
+         controllers +
+         "</controllers>"
+         "<arena size=\"" +
+         arena_size + "\" center=\"0,0,0.5\">" + arena_body +
+         "</arena>"
+         "<physics_engines>" +
+         engines + "</physics_engines>" + extra + "</colony>";
 }
 
-inline std::unique_ptr<Simulation> LoadXml(const std::string& xml, std::vector<std::string> overrides = {},
+inline std::unique_ptr<Simulation> LoadXml(const std::string& xml,
+                                           std::vector<std::string> overrides = {},
                                            std::optional<int> threads = std::nullopt) {
   ExperimentOptions options;
   options.text = xml;
@@ -81,8 +88,10 @@ inline std::filesystem::path FreshTempDir(const std::string& prefix, const std::
 }
 
 // Passes when `message` is an error containing each of `parts`.
-inline ::testing::AssertionResult Mentions(const std::string& message, const std::vector<std::string>& parts) {
-  if (message.empty()) return ::testing::AssertionFailure() << "the experiment loaded without any error";
+inline ::testing::AssertionResult Mentions(const std::string& message,
+                                           const std::vector<std::string>& parts) {
+  if (message.empty())
+    return ::testing::AssertionFailure() << "the experiment loaded without any error";
   for (const auto& part : parts) {
     if (message.find(part) == std::string::npos) {
       return ::testing::AssertionFailure() << "the message lacks \"" << part << "\":\n" << message;
@@ -100,7 +109,8 @@ inline pid_t SpawnWithOutput(std::vector<std::string> argv, const std::string& o
   words.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, output.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, output.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   pid_t pid = -1;
   if (posix_spawn(&pid, words[0], &actions, nullptr, words.data(), environ) != 0) pid = -1;
@@ -114,7 +124,8 @@ inline std::vector<std::string> ReadmeAttributes(const std::string& folder) {
   const std::string text = ReadFile(std::string(COLONY_SOURCE_DIR) + "/" + folder + "/README.md");
   std::vector<std::string> names;
   const std::regex row(R"(\n\| `([a-z_]+)` \|)");
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), row); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), row); it != std::sregex_iterator();
+       ++it) {
     names.push_back((*it)[1]);
   }
   return names;

@@ -265,11 +265,12 @@ int Bench(const Options& o) {
         "RESULT scene=%s robots=%zu threads=%d ticks=%llu steps_per_s_median=%.0f "
         "load_s_median=%.3f "
         "bytes_per_robot=%.0f load_bytes_per_robot=%.0f cpu_ns_per_robot_step=%.0f state_hash=%s "
-        "act_pct=%.1f physics_pct=%.1f media_pct=%.1f loop_functions_pct=%.1f sense_control_pct=%.1f\n",
+        "act_pct=%.1f physics_pct=%.1f media_pct=%.1f loop_functions_pct=%.1f "
+        "sense_control_pct=%.1f\n",
         scene.c_str(), first.robots, first.threads, static_cast<unsigned long long>(first.ticks),
         Median(sps), Median(load), Median(bpr), Median(lbpr), Median(cpu_ns),
-        colony::StateHasher::Hex(first.hash).c_str(), Median(share[0]), Median(share[1]), Median(share[2]),
-        Median(share[3]), Median(share[4]));
+        colony::StateHasher::Hex(first.hash).c_str(), Median(share[0]), Median(share[1]),
+        Median(share[2]), Median(share[3]), Median(share[4]));
     std::fflush(stdout);
   }
   return 0;

@@ -22,7 +22,9 @@ class SteeringSystem : public ActuatorSystem {
     max_speed_ = node.GetDouble("max_speed", -1, Range::Positive());
     max_acceleration_ = node.GetDouble("max_acceleration", 3.0, Range::Positive());
   }
-  std::vector<std::string> NeededComponents() const override { return {DriveState::kComponentName}; }
+  std::vector<std::string> NeededComponents() const override {
+    return {DriveState::kComponentName};
+  }
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
     return &instances_.Add(robot, rng);
   }
@@ -57,7 +59,8 @@ COLONY_REGISTER_ACTUATOR(
     SteeringSystem, "differential_steering", "default",
     "left and right wheel speeds (m/s), clamped to max_speed and limited in acceleration",
     (std::vector<AttributeDoc>{
-        {"max_speed", "a number > 0 (m/s)", "the robot's (marXbot: 0.3)", "speed limit of each wheel"},
+        {"max_speed", "a number > 0 (m/s)", "the robot's (marXbot: 0.3)",
+         "speed limit of each wheel"},
         {"max_acceleration", "a number > 0 (m/s^2)", "3", "how fast a wheel changes speed"},
     }));
 

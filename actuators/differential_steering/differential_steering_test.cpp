@@ -87,8 +87,10 @@ TEST(DifferentialSteering, SpeedIsClampedToTheMarxbotsTopSpeed) {
 }
 
 TEST(DifferentialSteering, MaxSpeedAttributeLowersTheLimitButNeverRaisesIt) {
-  auto slow = LoadXml(Experiment(Robot("r", "-1.5,0,0"), Controllers("left=\"1\" right=\"1\"", "max_speed=\"0.1\"")));
-  auto fast = LoadXml(Experiment(Robot("r", "-1.5,0,0"), Controllers("left=\"1\" right=\"1\"", "max_speed=\"2\"")));
+  auto slow = LoadXml(Experiment(Robot("r", "-1.5,0,0"),
+                                 Controllers("left=\"1\" right=\"1\"", "max_speed=\"0.1\"")));
+  auto fast = LoadXml(
+      Experiment(Robot("r", "-1.5,0,0"), Controllers("left=\"1\" right=\"1\"", "max_speed=\"2\"")));
   for (int t = 0; t < 10; ++t) {
     slow->Step();
     fast->Step();
@@ -100,7 +102,8 @@ TEST(DifferentialSteering, MaxSpeedAttributeLowersTheLimitButNeverRaisesIt) {
 
 TEST(DifferentialSteering, AccelerationIsLimited) {
   // 1 m/s^2 at 10 ticks per second: +0.1 m/s per tick, 3 ticks to 0.3 m/s.
-  auto sim = LoadXml(Experiment(Robot("r", "-1.5,0,0"), Controllers("left=\"0.3\" right=\"0.3\"", "max_acceleration=\"1\"")));
+  auto sim = LoadXml(Experiment(
+      Robot("r", "-1.5,0,0"), Controllers("left=\"0.3\" right=\"0.3\"", "max_acceleration=\"1\"")));
   const DriveState* d = sim->space().drive(sim->space().Find("r").index);
   const double speeds[] = {0.1, 0.2, 0.3, 0.3};
   for (double v : speeds) {
@@ -129,7 +132,8 @@ TEST(DifferentialSteering, DefaultAccelerationReachesTopSpeedInOneTick) {
 
 TEST(DifferentialSteering, SpinningInPlaceKeepsThePosition) {
   // (-v, v): turns counter-clockwise at 2v / 0.14 rad/s around its centre.
-  auto sim = LoadXml(Experiment(Robot("r", "0.3,-0.2,0", 10), Controllers("left=\"-0.07\" right=\"0.07\"")));
+  auto sim = LoadXml(
+      Experiment(Robot("r", "0.3,-0.2,0", 10), Controllers("left=\"-0.07\" right=\"0.07\"")));
   for (int t = 0; t < 25; ++t) {
     sim->Step();
     EXPECT_NEAR(PoseOf(*sim, "r").position.x(), 0.3, 1e-12);
@@ -152,7 +156,8 @@ TEST(DifferentialSteering, ArcsFollowACircle) {
   const Vec2 centre(0, radius);
   for (int t = 0; t < 150; ++t) {
     sim->Step();
-    EXPECT_NEAR((PoseOf(*sim, "r").position.head<2>() - centre).norm(), radius, 1e-9) << "tick " << t;
+    EXPECT_NEAR((PoseOf(*sim, "r").position.head<2>() - centre).norm(), radius, 1e-9)
+        << "tick " << t;
   }
 }
 
@@ -194,7 +199,8 @@ TEST(DifferentialSteering, UnpoweredRobotBrakesToAStopAndStays) {
 }
 
 TEST(DifferentialSteering, UnpoweredRobotBrakesAtTheAccelerationLimit) {
-  auto sim = LoadXml(Experiment(Robot("r", "-1,0,0"), Controllers("left=\"0.3\" right=\"0.3\"", "max_acceleration=\"1\"")));
+  auto sim = LoadXml(Experiment(
+      Robot("r", "-1,0,0"), Controllers("left=\"0.3\" right=\"0.3\"", "max_acceleration=\"1\"")));
   for (int t = 0; t < 5; ++t) sim->Step();
   DriveState* d = sim->space().drive(sim->space().Find("r").index);
   EXPECT_NEAR(d->left, 0.3, 1e-12);
@@ -210,10 +216,12 @@ TEST(DifferentialSteering, UnpoweredRobotBrakesAtTheAccelerationLimit) {
 }
 
 TEST(DifferentialSteering, BadAttributesAreReported) {
-  const std::string speed = LoadError(Experiment(Robot("r", "0,0,0"), Controllers("", "max_speed=\"0\"")));
+  const std::string speed =
+      LoadError(Experiment(Robot("r", "0,0,0"), Controllers("", "max_speed=\"0\"")));
   EXPECT_NE(speed.find("attribute 'max_speed'"), std::string::npos) << speed;
   EXPECT_NE(speed.find("> 0"), std::string::npos) << speed;
-  const std::string accel = LoadError(Experiment(Robot("r", "0,0,0"), Controllers("", "max_acceleration=\"fast\"")));
+  const std::string accel =
+      LoadError(Experiment(Robot("r", "0,0,0"), Controllers("", "max_acceleration=\"fast\"")));
   EXPECT_NE(accel.find("attribute 'max_acceleration'"), std::string::npos) << accel;
   EXPECT_NE(accel.find("not a finite number"), std::string::npos) << accel;
 }
@@ -222,7 +230,8 @@ TEST(DifferentialSteering, RegisteredAttributesMatchTheReadme) {
   // What `colony query differential_steering` lists (and README.md documents).
   const auto* entry = Registry<ActuatorSystem>::Get().Find("differential_steering");
   ASSERT_NE(entry, nullptr);
-  EXPECT_EQ(entry->info.AttributeNames(), (std::vector<std::string>{"max_speed", "max_acceleration"}));
+  EXPECT_EQ(entry->info.AttributeNames(),
+            (std::vector<std::string>{"max_speed", "max_acceleration"}));
 }
 
 }  // namespace

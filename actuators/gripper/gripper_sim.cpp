@@ -31,7 +31,9 @@ class GripperSystem : public ActuatorSystem {
     g->reach = reach_;
     return &instances_.Add(robot, rng);
   }
-  std::vector<std::string> NeededComponents() const override { return {GripperState::kComponentName}; }
+  std::vector<std::string> NeededComponents() const override {
+    return {GripperState::kComponentName};
+  }
   void Detach(Actuator* a) override { instances_.Remove(static_cast<GripperActuator*>(a)); }
   size_t size() const override { return instances_.size(); }
 
@@ -44,8 +46,10 @@ class GripperSystem : public ActuatorSystem {
       GripperState& g = *space.Get<GripperState>(a.robot.index);
       g.want_grip = a.gripping();
       if (g.holding()) continue;
-      const double target = std::isfinite(a.turret_target()) ? WrapAngle(a.turret_target()) : g.turret;
-      g.turret = WrapAngle(g.turret + std::clamp(WrapAngle(target - g.turret), -max_turn, max_turn));
+      const double target =
+          std::isfinite(a.turret_target()) ? WrapAngle(a.turret_target()) : g.turret;
+      g.turret =
+          WrapAngle(g.turret + std::clamp(WrapAngle(target - g.turret), -max_turn, max_turn));
     }
   }
 
@@ -60,7 +64,8 @@ COLONY_REGISTER_ACTUATOR(
     "release (needs an engine that simulates gripping: dynamics2d)",
     (std::vector<AttributeDoc>{
         {"turret_speed", "a number > 0 (rad/s)", "1", "how fast the turret turns"},
-        {"reach", "a number > 0 (m)", "0.02", "how far beyond the body the jaws close on something"},
+        {"reach", "a number > 0 (m)", "0.02",
+         "how far beyond the body the jaws close on something"},
     }));
 
 }  // namespace

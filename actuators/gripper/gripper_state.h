@@ -11,10 +11,10 @@ namespace colony {
 
 struct GripperState {
   static constexpr const char* kComponentName = "gripper";
-  double turret = 0;         // turret angle from the robot's front, counter-clockwise (rad)
-  double turret_speed = 1;   // most turret rotation per second (rad/s)
-  double reach = 0.02;       // how far beyond the body the jaws close on something (m)
-  bool want_grip = false;    // the controller asks to hold what is in front of the jaws
+  double turret = 0;            // turret angle from the robot's front, counter-clockwise (rad)
+  double turret_speed = 1;      // most turret rotation per second (rad/s)
+  double reach = 0.02;          // how far beyond the body the jaws close on something (m)
+  bool want_grip = false;       // the controller asks to hold what is in front of the jaws
   uint32_t held = 0xFFFFFFFFu;  // slot of the held entity, or none
   bool holding() const { return held != 0xFFFFFFFFu; }
   void Hash(StateHasher& h) const {

@@ -1,8 +1,9 @@
 // Gripping: a gripped cylinder follows the robot and stays behind when
 // released; the turret turns at its speed; engines that do not simulate
 // gripping reject it at load time.
-#include "actuators/differential_steering/differential_steering.h"
 #include "actuators/gripper/gripper.h"
+
+#include "actuators/differential_steering/differential_steering.h"
 #include "sensors/gripper/gripper.h"
 #include "tests/test_util.h"
 
@@ -37,19 +38,25 @@ class GripProbe : public Controller {
 COLONY_REGISTER_CONTROLLER(GripProbe, "grip_probe", "test: scripted gripping");
 
 const char* kProbe =
-    "<grip_probe id=\"g\"><actuators><differential_steering/><gripper turret_speed=\"1\"/></actuators>"
+    "<grip_probe id=\"g\"><actuators><differential_steering/><gripper "
+    "turret_speed=\"1\"/></actuators>"
     "<sensors><gripper/></sensors></grip_probe>";
 
 std::string Scene(const std::string& engine) {
   // A movable cylinder just in front of the robot's jaws (robot radius 0.085).
   return testing::Experiment(
       "<marxbot id=\"r\"><body position=\"0,0,0\"/><controller config=\"g\"/></marxbot>"
-      "<cylinder id=\"c\" radius=\"0.05\" height=\"0.1\" movable=\"true\" mass=\"0.2\"><body position=\"0.145,0,0\"/></cylinder>",
+      "<cylinder id=\"c\" radius=\"0.05\" height=\"0.1\" movable=\"true\" mass=\"0.2\"><body "
+      "position=\"0.145,0,0\"/></cylinder>",
       kProbe, "4,4,1", "", engine);
 }
 
-GripProbe& Probe(Simulation& sim) { return dynamic_cast<GripProbe&>(*sim.ControllerOf(sim.space().Find("r"))); }
-Vec3 At(Simulation& sim, const char* id) { return sim.space().pose(sim.space().Find(id).index).position; }
+GripProbe& Probe(Simulation& sim) {
+  return dynamic_cast<GripProbe&>(*sim.ControllerOf(sim.space().Find("r")));
+}
+Vec3 At(Simulation& sim, const char* id) {
+  return sim.space().pose(sim.space().Find(id).index).position;
+}
 
 TEST(Gripper, GrippedCylinderFollowsAndStaysBehindWhenReleased) {
   auto sim = testing::LoadXml(Scene("<dynamics2d id=\"d2d\"/>"));
@@ -98,7 +105,10 @@ TEST(Gripper, TurretTurnsAtItsSpeed) {
 TEST(Gripper, Kinematics2dRejectsGrippingAtLoadTime) {
   const std::string m = testing::LoadError(Scene("<kinematics2d id=\"k2d\"/>"));
   EXPECT_NE(m.find("<gripper>: robot 'r' (a marxbot"), std::string::npos) << m;
-  EXPECT_NE(m.find("kinematics2d 'k2d') does not simulate the gripper of a marxbot; use dynamics2d"), std::string::npos) << m;
+  EXPECT_NE(
+      m.find("kinematics2d 'k2d') does not simulate the gripper of a marxbot; use dynamics2d"),
+      std::string::npos)
+      << m;
 }
 
 // A gripping robot that drives out of the dynamics2d half of the arena into
@@ -107,14 +117,15 @@ TEST(Gripper, Kinematics2dRejectsGrippingAtLoadTime) {
 TEST(Gripper, DrivingIntoAnEngineThatCannotGripStopsTheRun) {
   auto region = [](const char* x0, const char* x1) {
     return std::string("<boundaries><top height=\"1\"/><bottom height=\"0\"/><sides size=\"4\">") +
-           "<vertex point=\"" + x0 + ",-2\"/><vertex point=\"" + x1 + ",-2\"/><vertex point=\"" + x1 +
-           ",2\"/><vertex point=\"" + x0 + ",2\"/></sides></boundaries>";
+           "<vertex point=\"" + x0 + ",-2\"/><vertex point=\"" + x1 + ",-2\"/><vertex point=\"" +
+           x1 + ",2\"/><vertex point=\"" + x0 + ",2\"/></sides></boundaries>";
   };
-  const std::string engines = "<dynamics2d id=\"d2d\">" + region("-2", "0") + "</dynamics2d><kinematics2d id=\"k2d\">" +
-                              region("0", "2") + "</kinematics2d>";
+  const std::string engines = "<dynamics2d id=\"d2d\">" + region("-2", "0") +
+                              "</dynamics2d><kinematics2d id=\"k2d\">" + region("0", "2") +
+                              "</kinematics2d>";
   auto sim = testing::LoadXml(testing::Experiment(
-      "<marxbot id=\"r\"><body position=\"-0.3,0,0\"/><controller config=\"g\"/></marxbot>", kProbe, "4,4,1", "",
-      engines));
+      "<marxbot id=\"r\"><body position=\"-0.3,0,0\"/><controller config=\"g\"/></marxbot>", kProbe,
+      "4,4,1", "", engines));
   GripProbe& probe = Probe(*sim);
   probe.speed = 0.1;
   std::string message;
@@ -125,10 +136,12 @@ TEST(Gripper, DrivingIntoAnEngineThatCannotGripStopsTheRun) {
   }
   EXPECT_NE(message.find("robot 'r' crossed at tick "), std::string::npos) << message;
   // The gripper sensor needs the gripper too; it is checked first.
-  EXPECT_NE(message.find("from dynamics2d 'd2d' into the region of kinematics2d 'k2d', which cannot simulate its "
-                         "sensor 'gripper': kinematics2d 'k2d' does not simulate the gripper of a marxbot; use "
-                         "dynamics2d"),
-            std::string::npos)
+  EXPECT_NE(
+      message.find(
+          "from dynamics2d 'd2d' into the region of kinematics2d 'k2d', which cannot simulate its "
+          "sensor 'gripper': kinematics2d 'k2d' does not simulate the gripper of a marxbot; use "
+          "dynamics2d"),
+      std::string::npos)
       << message;
   EXPECT_LT(At(*sim, "r").x(), 0.1) << "it stopped at the boundary";
 }

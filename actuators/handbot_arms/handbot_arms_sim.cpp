@@ -20,7 +20,9 @@ struct ArmsInstance : HandbotArmsActuator, InstanceBase {
 class HandbotArmsSystem : public ActuatorSystem {
  public:
   void Configure(const ConfigNode&) override {}
-  std::vector<std::string> NeededComponents() const override { return {HandbotArmsState::kComponentName}; }
+  std::vector<std::string> NeededComponents() const override {
+    return {HandbotArmsState::kComponentName};
+  }
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
     ArmsInstance& a = instances_.Add(robot, rng);
     const HandbotArmsState& arms = *sim().space().Get<HandbotArmsState>(robot.index);
@@ -40,8 +42,8 @@ class HandbotArmsSystem : public ActuatorSystem {
         HandbotJoint& arm = arms.arm[k];
         const char* name = k == HandbotArmsActuator::kLeft ? "left arm" : "right arm";
         arm.speed = handbot_commands::Speed(a.speed(k), a.nominal[k], arm, id, name, a.warned[k]);
-        arm.target = handbot_commands::Target(a.extension_target(k), arm.position, arm.min, arm.max, id, name,
-                                              a.warned[k]);
+        arm.target = handbot_commands::Target(a.extension_target(k), arm.position, arm.min, arm.max,
+                                              id, name, a.warned[k]);
       }
     }
   }
@@ -50,10 +52,11 @@ class HandbotArmsSystem : public ActuatorSystem {
   InstanceStore<ArmsInstance> instances_;
 };
 
-COLONY_REGISTER_ACTUATOR(HandbotArmsSystem, "handbot_arms", "default",
-                         "the hand-bot's two arms: extension of each, 0 folded to pi/2 straight ahead (rad, rad/s; "
-                         "motors: stall 2.27 N m, no-load 2.61 rad/s)",
-                         (std::vector<AttributeDoc>{}));
+COLONY_REGISTER_ACTUATOR(
+    HandbotArmsSystem, "handbot_arms", "default",
+    "the hand-bot's two arms: extension of each, 0 folded to pi/2 straight ahead (rad, rad/s; "
+    "motors: stall 2.27 N m, no-load 2.61 rad/s)",
+    (std::vector<AttributeDoc>{}));
 
 }  // namespace
 }  // namespace colony

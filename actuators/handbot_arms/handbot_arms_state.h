@@ -32,15 +32,15 @@ struct MotorFigures {
 struct HandbotJoint {
   // Commands.
   double target = 0;  // rad
-  double speed = 0;   // rad/s, the fastest to move towards the target (<= the motor's no-load speed)
+  double speed = 0;  // rad/s, the fastest to move towards the target (<= the motor's no-load speed)
   // Limits (entity).
   double min = 0, max = 0;  // rad; min == max: turns without limit
   MotorFigures motor;
   // State (model).
-  double position = 0;  // rad
-  double velocity = 0;  // rad/s
-  double torque = 0;    // N m, the motor's torque about the joint, averaged over the tick
-  bool stalled = false; // the motor gives its most and the joint does not move towards the target
+  double position = 0;   // rad
+  double velocity = 0;   // rad/s
+  double torque = 0;     // N m, the motor's torque about the joint, averaged over the tick
+  bool stalled = false;  // the motor gives its most and the joint does not move towards the target
   bool limited() const { return max > min; }
   void Hash(StateHasher& h) const {
     const double v[5] = {position, velocity, torque, stalled ? 1.0 : 0.0, target};
@@ -52,21 +52,23 @@ struct HandbotArmsState {
   static constexpr const char* kComponentName = "handbot_arms";
   static constexpr int kLeft = 0, kRight = 1;
   static constexpr uint32_t kNothing = 0xFFFFFFFFu;
-  static constexpr uint32_t kFixedThing = 0xFFFFFFFEu;  // grasping something fixed with no slot of its own
+  static constexpr uint32_t kFixedThing =
+      0xFFFFFFFEu;  // grasping something fixed with no slot of its own
 
   HandbotJoint head;      // rotation of the head (both arms) about the robot's forward axis
   HandbotJoint arm[2];    // extension: 0 folded (pointing sideways), pi/2 straight ahead
   HandbotJoint wrist[2];  // rotation of each gripper about its arm
   // The claws of each gripper.
   struct Claws {
-    double target = 1.5707963267948966;  // rad, 0 closed .. pi/2 open
-    double speed = 1.0;                   // rad/s
-    double aperture = 1.5707963267948966; // rad (model)
-    uint32_t held = kNothing;             // slot of the grasped entity, kFixedThing, or kNothing (model)
+    double target = 1.5707963267948966;    // rad, 0 closed .. pi/2 open
+    double speed = 1.0;                    // rad/s
+    double aperture = 1.5707963267948966;  // rad (model)
+    uint32_t held = kNothing;  // slot of the grasped entity, kFixedThing, or kNothing (model)
     bool holding() const { return held != kNothing; }
   } claws[2];
-  double grasp_force = 25;     // N, the claws' grip (seed 003, table 5.3)
-  double holding_limit = 39.2; // N, the pull beyond which a grasped thing slips out (4 kg, seed 000)
+  double grasp_force = 25;  // N, the claws' grip (seed 003, table 5.3)
+  double holding_limit =
+      39.2;  // N, the pull beyond which a grasped thing slips out (4 kg, seed 000)
 
   void Hash(StateHasher& h) const {
     head.Hash(h);

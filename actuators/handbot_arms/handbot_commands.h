@@ -21,15 +21,16 @@ struct Warned {
 // The speed the joint moves at: `asked` (rad/s) if the motor can, the
 // joint's nominal speed if `asked` is not a finite number; beyond the motor's
 // no-load speed that speed, below 0 none, each with a warning.
-inline double Speed(double asked, double nominal, const HandbotJoint& joint, const std::string& robot,
-                    const char* what, Warned& warned) {
+inline double Speed(double asked, double nominal, const HandbotJoint& joint,
+                    const std::string& robot, const char* what, Warned& warned) {
   if (!std::isfinite(asked)) return nominal;
   const double fastest = joint.motor.no_load_speed;
   if (asked >= 0 && asked <= fastest) return asked;
   if (!warned.speed) {
     warned.speed = true;
-    LogWarning("robot '" + robot + "': " + what + " speed " + FormatNumber(asked) + " rad/s is outside [0, " +
-               FormatNumber(fastest) + "] (the motor's no-load speed); it moves at " +
+    LogWarning("robot '" + robot + "': " + what + " speed " + FormatNumber(asked) +
+               " rad/s is outside [0, " + FormatNumber(fastest) +
+               "] (the motor's no-load speed); it moves at " +
                FormatNumber(std::clamp(asked, 0.0, fastest)) + " rad/s (said once per robot)");
   }
   return std::clamp(asked, 0.0, fastest);
@@ -37,15 +38,15 @@ inline double Speed(double asked, double nominal, const HandbotJoint& joint, con
 
 // A target within [lo, hi], with a warning when `asked` is outside; a value
 // that is not a finite number keeps `current`.
-inline double Target(double asked, double current, double lo, double hi, const std::string& robot, const char* what,
-                     Warned& warned) {
+inline double Target(double asked, double current, double lo, double hi, const std::string& robot,
+                     const char* what, Warned& warned) {
   if (!std::isfinite(asked)) return current;
   if (asked >= lo && asked <= hi) return asked;
   if (!warned.range) {
     warned.range = true;
-    LogWarning("robot '" + robot + "': " + what + " " + FormatNumber(asked) + " rad is outside [" + FormatNumber(lo) +
-               ", " + FormatNumber(hi) + "]; it goes to " + FormatNumber(std::clamp(asked, lo, hi)) +
-               " rad (said once per robot)");
+    LogWarning("robot '" + robot + "': " + what + " " + FormatNumber(asked) + " rad is outside [" +
+               FormatNumber(lo) + ", " + FormatNumber(hi) + "]; it goes to " +
+               FormatNumber(std::clamp(asked, lo, hi)) + " rad (said once per robot)");
   }
   return std::clamp(asked, lo, hi);
 }

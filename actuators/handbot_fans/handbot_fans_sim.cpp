@@ -23,7 +23,9 @@ struct FansInstance : HandbotFansActuator, InstanceBase {
 class HandbotFansSystem : public ActuatorSystem {
  public:
   void Configure(const ConfigNode&) override {}
-  std::vector<std::string> NeededComponents() const override { return {HandbotFansState::kComponentName}; }
+  std::vector<std::string> NeededComponents() const override {
+    return {HandbotFansState::kComponentName};
+  }
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
     FansInstance& a = instances_.Add(robot, rng);
     a.SetMax(sim().space().Get<HandbotFansState>(robot.index)->max_torque);
@@ -57,9 +59,10 @@ class HandbotFansSystem : public ActuatorSystem {
   InstanceStore<FansInstance> instances_;
 };
 
-COLONY_REGISTER_ACTUATOR(HandbotFansSystem, "handbot_fans", "default",
-                         "the hand-bot's two fans: a yaw torque (N m) or a heading to hold while hanging",
-                         (std::vector<AttributeDoc>{}));
+COLONY_REGISTER_ACTUATOR(
+    HandbotFansSystem, "handbot_fans", "default",
+    "the hand-bot's two fans: a yaw torque (N m) or a heading to hold while hanging",
+    (std::vector<AttributeDoc>{}));
 
 }  // namespace
 }  // namespace colony

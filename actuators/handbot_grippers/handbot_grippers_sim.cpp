@@ -21,7 +21,9 @@ struct GrippersInstance : HandbotGrippersActuator, InstanceBase {
 class HandbotGrippersSystem : public ActuatorSystem {
  public:
   void Configure(const ConfigNode&) override {}
-  std::vector<std::string> NeededComponents() const override { return {HandbotArmsState::kComponentName}; }
+  std::vector<std::string> NeededComponents() const override {
+    return {HandbotArmsState::kComponentName};
+  }
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
     GrippersInstance& a = instances_.Add(robot, rng);
     const HandbotArmsState& arms = *sim().space().Get<HandbotArmsState>(robot.index);
@@ -39,13 +41,17 @@ class HandbotGrippersSystem : public ActuatorSystem {
       const std::string& id = space.id(a.robot.index);
       for (int k = 0; k < 2; ++k) {
         HandbotJoint& wrist = arms.wrist[k];
-        const char* name = k == HandbotGrippersActuator::kLeft ? "left gripper rotation" : "right gripper rotation";
-        wrist.speed = handbot_commands::Speed(a.rotation_speed(k), a.nominal[k], wrist, id, name, a.warned[k]);
-        wrist.target = WrapAngle(std::isfinite(a.rotation_target(k)) ? a.rotation_target(k) : wrist.position);
+        const char* name = k == HandbotGrippersActuator::kLeft ? "left gripper rotation"
+                                                               : "right gripper rotation";
+        wrist.speed = handbot_commands::Speed(a.rotation_speed(k), a.nominal[k], wrist, id, name,
+                                              a.warned[k]);
+        wrist.target =
+            WrapAngle(std::isfinite(a.rotation_target(k)) ? a.rotation_target(k) : wrist.position);
         auto& claws = arms.claws[k];
-        claws.target = handbot_commands::Target(a.aperture_target(k), claws.aperture, 0.0, M_PI / 2, id,
-                                                k == HandbotGrippersActuator::kLeft ? "left claws' aperture" : "right claws' aperture",
-                                                a.claws_warned[k]);
+        claws.target = handbot_commands::Target(
+            a.aperture_target(k), claws.aperture, 0.0, M_PI / 2, id,
+            k == HandbotGrippersActuator::kLeft ? "left claws' aperture" : "right claws' aperture",
+            a.claws_warned[k]);
       }
     }
   }
@@ -54,11 +60,12 @@ class HandbotGrippersSystem : public ActuatorSystem {
   InstanceStore<GrippersInstance> instances_;
 };
 
-COLONY_REGISTER_ACTUATOR(HandbotGrippersSystem, "handbot_grippers", "default",
-                         "the hand-bot's two grippers: rotation about the arm (rad, rad/s; motor: stall 0.265 N m, "
-                         "no-load 0.604 rad/s) and claws' aperture, 0 closed to pi/2 open; closing on something "
-                         "grasps it (25 N, holds up to 4 kg)",
-                         (std::vector<AttributeDoc>{}));
+COLONY_REGISTER_ACTUATOR(
+    HandbotGrippersSystem, "handbot_grippers", "default",
+    "the hand-bot's two grippers: rotation about the arm (rad, rad/s; motor: stall 0.265 N m, "
+    "no-load 0.604 rad/s) and claws' aperture, 0 closed to pi/2 open; closing on something "
+    "grasps it (25 N, holds up to 4 kg)",
+    (std::vector<AttributeDoc>{}));
 
 }  // namespace
 }  // namespace colony

@@ -20,7 +20,9 @@ struct HeadInstance : HandbotHeadActuator, InstanceBase {
 class HandbotHeadSystem : public ActuatorSystem {
  public:
   void Configure(const ConfigNode&) override {}
-  std::vector<std::string> NeededComponents() const override { return {HandbotArmsState::kComponentName}; }
+  std::vector<std::string> NeededComponents() const override {
+    return {HandbotArmsState::kComponentName};
+  }
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
     HeadInstance& a = instances_.Add(robot, rng);
     a.nominal = sim().space().Get<HandbotArmsState>(robot.index)->head.speed;
@@ -36,7 +38,8 @@ class HandbotHeadSystem : public ActuatorSystem {
       HandbotJoint& head = space.Get<HandbotArmsState>(a.robot.index)->head;
       const std::string& id = space.id(a.robot.index);
       head.speed = handbot_commands::Speed(a.speed(), a.nominal, head, id, "head", a.warned);
-      head.target = WrapAngle(std::isfinite(a.rotation_target()) ? a.rotation_target() : head.position);
+      head.target =
+          WrapAngle(std::isfinite(a.rotation_target()) ? a.rotation_target() : head.position);
     }
   }
 
@@ -44,10 +47,11 @@ class HandbotHeadSystem : public ActuatorSystem {
   InstanceStore<HeadInstance> instances_;
 };
 
-COLONY_REGISTER_ACTUATOR(HandbotHeadSystem, "handbot_head", "default",
-                         "the hand-bot's head: rotation of both arms about the robot's forward axis (rad, rad/s; "
-                         "motor: stall 1.44 N m, no-load 2.85 rad/s)",
-                         (std::vector<AttributeDoc>{}));
+COLONY_REGISTER_ACTUATOR(
+    HandbotHeadSystem, "handbot_head", "default",
+    "the hand-bot's head: rotation of both arms about the robot's forward axis (rad, rad/s; "
+    "motor: stall 1.44 N m, no-load 2.85 rad/s)",
+    (std::vector<AttributeDoc>{}));
 
 }  // namespace
 }  // namespace colony

@@ -16,7 +16,9 @@ struct LedInstance : Leds, InstanceBase {
 
 class LedSystem : public ActuatorSystem {
  public:
-  void Configure(const ConfigNode& node) override { initial_ = node.GetColor("color", Color::Black()); }
+  void Configure(const ConfigNode& node) override {
+    initial_ = node.GetColor("color", Color::Black());
+  }
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
     const size_t n = sim().space().leds(robot.index).size();
     if (n == 0) throw AttachError("it has no LEDs");
@@ -47,7 +49,8 @@ class LedSystem : public ActuatorSystem {
 
 COLONY_REGISTER_ACTUATOR(LedSystem, "leds", "default",
                          "the robot's RGB LEDs (marXbot: 12 on the ring + the beacon)",
-                         (std::vector<AttributeDoc>{{"color", kColorAccepted, "black", "colour at start"}}));
+                         (std::vector<AttributeDoc>{
+                             {"color", kColorAccepted, "black", "colour at start"}}));
 
 }  // namespace
 }  // namespace colony

@@ -39,7 +39,8 @@ std::string Controllers(const std::string& attributes = "") {
 }
 
 std::string Robot(const std::string& id, const std::string& position) {
-  return "<marxbot id=\"" + id + "\"><body position=\"" + position + "\"/><controller config=\"lp\"/></marxbot>";
+  return "<marxbot id=\"" + id + "\"><body position=\"" + position +
+         "\"/><controller config=\"lp\"/></marxbot>";
 }
 
 LedProbe& Probe(Simulation& sim, const std::string& robot) {
@@ -126,7 +127,8 @@ TEST(Leds, ColoursAreInTheStateHash) {
 }
 
 TEST(Leds, BadColourIsReported) {
-  const std::string message = LoadError(Experiment(Robot("r", "0,0,0"), Controllers("color=\"reddish\"")));
+  const std::string message =
+      LoadError(Experiment(Robot("r", "0,0,0"), Controllers("color=\"reddish\"")));
   EXPECT_NE(message.find("<leds>"), std::string::npos) << message;
   EXPECT_NE(message.find("attribute 'color'"), std::string::npos) << message;
   EXPECT_NE(message.find("is not a colour"), std::string::npos) << message;

@@ -17,8 +17,8 @@ namespace colony {
 class ManipulatorActuator : public Actuator {
  public:
   // Head rotations that turn one side of the head to the robot's front.
-  static constexpr double kMagnetSide = 0;    // magnet to the front, IR sensors to the back (rad)
-  static constexpr double kIrSide = M_PI;     // IR sensors to the front, magnet to the back (rad)
+  static constexpr double kMagnetSide = 0;  // magnet to the front, IR sensors to the back (rad)
+  static constexpr double kIrSide = M_PI;   // IR sensors to the front, magnet to the back (rad)
 
   // Target height of the magnet's centre above the floor under the robot (m),
   // clamped to [min_elevation(), max_elevation()]. A value that is not a

@@ -45,15 +45,18 @@ class ManipulatorSystem : public ActuatorSystem {
     const ManipulatorState defaults;
     const double lo = min_elevation_.value_or(defaults.min_elevation);
     const double hi = max_elevation_.value_or(defaults.max_elevation);
-    if (node.context().diagnostics.size() == problems && lo >= hi && (min_elevation_ || max_elevation_)) {
+    if (node.context().diagnostics.size() == problems && lo >= hi &&
+        (min_elevation_ || max_elevation_)) {
       const char* bad = max_elevation_ ? "max_elevation" : "min_elevation";
       node.Error(bad, node.GetString(bad, ""),
-                 "min_elevation (" + FormatNumber(lo) + ") must be below max_elevation (" + FormatNumber(hi) +
-                     "); accepted: 0 <= min_elevation < max_elevation (m)");
+                 "min_elevation (" + FormatNumber(lo) + ") must be below max_elevation (" +
+                     FormatNumber(hi) + "); accepted: 0 <= min_elevation < max_elevation (m)");
     }
   }
 
-  std::vector<std::string> NeededComponents() const override { return {ManipulatorState::kComponentName}; }
+  std::vector<std::string> NeededComponents() const override {
+    return {ManipulatorState::kComponentName};
+  }
 
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
     ManipulatorState* m = sim().space().Get<ManipulatorState>(robot.index);  // checked by the host
@@ -63,8 +66,8 @@ class ManipulatorSystem : public ActuatorSystem {
     if (rotation_speed_) m->rotation_speed = *rotation_speed_;
     if (switch_time_) m->switch_time = *switch_time_;
     if (m->min_elevation >= m->max_elevation) {
-      throw AttachError("its manipulator's elevation range [" + FormatNumber(m->min_elevation) + ", " +
-                        FormatNumber(m->max_elevation) + "] is empty");
+      throw AttachError("its manipulator's elevation range [" + FormatNumber(m->min_elevation) +
+                        ", " + FormatNumber(m->max_elevation) + "] is empty");
     }
     ManipulatorInstance& a = instances_.Add(robot, rng);
     a.SetLimits(m->min_elevation, m->max_elevation);
@@ -79,31 +82,38 @@ class ManipulatorSystem : public ActuatorSystem {
       ManipulatorInstance& a = instances_[k];
       if (!a.alive) continue;
       ManipulatorState& m = *space.Get<ManipulatorState>(a.robot.index);
-      const double elevation = std::isfinite(a.elevation_target()) ? a.elevation_target() : m.elevation;
+      const double elevation =
+          std::isfinite(a.elevation_target()) ? a.elevation_target() : m.elevation;
       m.target_elevation = std::clamp(elevation, m.min_elevation, m.max_elevation);
-      m.target_rotation = WrapAngle(std::isfinite(a.rotation_target()) ? a.rotation_target() : m.rotation);
+      m.target_rotation =
+          WrapAngle(std::isfinite(a.rotation_target()) ? a.rotation_target() : m.rotation);
       m.want_magnet = a.magnet_wanted();
     }
   }
 
  private:
   // Overrides of the robot's limits; none: keep the robot's.
-  std::optional<double> min_elevation_, max_elevation_, elevation_speed_, rotation_speed_, switch_time_;
+  std::optional<double> min_elevation_, max_elevation_, elevation_speed_, rotation_speed_,
+      switch_time_;
   InstanceStore<ManipulatorInstance> instances_;
 };
 
 COLONY_REGISTER_ACTUATOR(
     ManipulatorSystem, "manipulator", "default",
-    "the marXbot's magnetic construction manipulator: head elevation, head rotation (magnet side / IR "
+    "the marXbot's magnetic construction manipulator: head elevation, head rotation (magnet side / "
+    "IR "
     "side), switchable magnet (needs an engine that simulates it: dynamics3d)",
     (std::vector<AttributeDoc>{
         {"min_elevation", "a number >= 0 (m), below max_elevation", "the robot's (marXbot: 0.03)",
          "lowest height of the magnet's centre above the floor"},
         {"max_elevation", "a number > 0 (m), above min_elevation", "the robot's (marXbot: 0.2)",
          "highest height of the magnet's centre above the floor"},
-        {"elevation_speed", "a number > 0 (m/s)", "the robot's (marXbot: 0.05)", "how fast the head moves up and down"},
-        {"rotation_speed", "a number > 0 (rad/s)", "the robot's (marXbot: 1)", "how fast the head turns"},
-        {"switch_time", "a number > 0 (s)", "the robot's (marXbot: 1)", "how long the magnet takes to switch over"},
+        {"elevation_speed", "a number > 0 (m/s)", "the robot's (marXbot: 0.05)",
+         "how fast the head moves up and down"},
+        {"rotation_speed", "a number > 0 (rad/s)", "the robot's (marXbot: 1)",
+         "how fast the head turns"},
+        {"switch_time", "a number > 0 (s)", "the robot's (marXbot: 1)",
+         "how long the magnet takes to switch over"},
     }));
 
 }  // namespace

@@ -19,21 +19,22 @@ struct ManipulatorState {
   static constexpr const char* kHeadAnchor = "manipulator_head";
   // Commands.
   double target_elevation = 0;  // height of the magnet's centre above the floor under the robot (m)
-  double target_rotation = 0;   // head rotation: 0 = magnet side facing the robot's front (rad, ccw)
-  bool want_magnet = false;     // engage (true) or disengage the magnet
+  double target_rotation = 0;  // head rotation: 0 = magnet side facing the robot's front (rad, ccw)
+  bool want_magnet = false;    // engage (true) or disengage the magnet
   // Limits (set by the entity; the actuator may override from XML).
   double min_elevation = 0.03, max_elevation = 0.20;  // m
   double elevation_speed = 0.05;                      // m/s
   double rotation_speed = 1.0;                        // rad/s
   double switch_time = 1.0;                           // s for the magnet to switch over
   // State, written by the engine.
-  double elevation = 0.03;   // m
-  double rotation = 0;       // rad
-  double magnet = 0;         // 0 disengaged .. 1 engaged; it holds only when fully engaged
+  double elevation = 0.03;      // m
+  double rotation = 0;          // rad
+  double magnet = 0;            // 0 disengaged .. 1 engaged; it holds only when fully engaged
   uint32_t held = 0xFFFFFFFFu;  // slot of the object the magnet holds, or none
   bool holding() const { return held != 0xFFFFFFFFu; }
   void Hash(StateHasher& h) const {
-    const double v[5] = {elevation, rotation, magnet, want_magnet ? 1.0 : 0.0, static_cast<double>(held)};
+    const double v[5] = {elevation, rotation, magnet, want_magnet ? 1.0 : 0.0,
+                         static_cast<double>(held)};
     h.Add(v, sizeof v);
   }
 };

@@ -50,7 +50,9 @@ COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_actuator_double:marxbot"
 // Sends what the test puts in its public fields every control step.
 class ManipulatorDriver : public Controller {
  public:
-  void Init(const Params&) override { manipulator = &GetActuator<ManipulatorActuator>("manipulator"); }
+  void Init(const Params&) override {
+    manipulator = &GetActuator<ManipulatorActuator>("manipulator");
+  }
   void ControlStep() override {
     if (elevation) manipulator->SetElevation(*elevation);
     if (rotation) manipulator->SetRotation(*rotation);
@@ -66,7 +68,8 @@ class ManipulatorDriver : public Controller {
   std::optional<bool> magnet;
   ManipulatorActuator* manipulator = nullptr;
 };
-COLONY_REGISTER_CONTROLLER(ManipulatorDriver, "manipulator_driver", "test: scripted manipulator commands");
+COLONY_REGISTER_CONTROLLER(ManipulatorDriver, "manipulator_driver",
+                           "test: scripted manipulator commands");
 
 const std::string kDouble = "<manipulator_actuator_double id=\"dbl\"/>";
 
@@ -87,7 +90,9 @@ std::unique_ptr<Simulation> Load(const std::string& attributes = "") {
 ManipulatorDriver& Driver(Simulation& sim) {
   return dynamic_cast<ManipulatorDriver&>(*sim.ControllerOf(sim.space().Find("r")));
 }
-const ManipulatorState& State(Simulation& sim) { return *sim.space().Get<ManipulatorState>(sim.space().Find("r").index); }
+const ManipulatorState& State(Simulation& sim) {
+  return *sim.space().Get<ManipulatorState>(sim.space().Find("r").index);
+}
 
 // Steps until a command given now has reached the state (it is sent at the
 // end of the next tick and written at the start of the one after).
@@ -166,8 +171,9 @@ TEST(ManipulatorActuator, NonFiniteCommandsHoldTheHead) {
 }
 
 TEST(ManipulatorActuator, XmlOverridesTheLimits) {
-  auto sim = Load("min_elevation=\"0.05\" max_elevation=\"0.15\" elevation_speed=\"0.1\" rotation_speed=\"2\" "
-                  "switch_time=\"0.5\"");
+  auto sim = Load(
+      "min_elevation=\"0.05\" max_elevation=\"0.15\" elevation_speed=\"0.1\" rotation_speed=\"2\" "
+      "switch_time=\"0.5\"");
   const ManipulatorState& m = State(*sim);
   EXPECT_DOUBLE_EQ(m.min_elevation, 0.05);
   EXPECT_DOUBLE_EQ(m.max_elevation, 0.15);
@@ -186,7 +192,8 @@ TEST(ManipulatorActuator, XmlOverridesTheLimits) {
 }
 
 void ExpectMentions(const std::string& message, const std::vector<std::string>& parts) {
-  for (const auto& p : parts) EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' in: " << message;
+  for (const auto& p : parts)
+    EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' in: " << message;
 }
 
 TEST(ManipulatorActuator, BadAttributesAreReportedWithElementAndLine) {
@@ -194,15 +201,19 @@ TEST(ManipulatorActuator, BadAttributesAreReportedWithElementAndLine) {
   auto error = [](const std::string& attributes) {
     return LoadError(Experiment(Robot("r"), "\n" + Controllers(attributes), "4,4,1", "", kDouble));
   };
-  ExpectMentions(error("elevation_speed=\"0\""), {":2:", "<manipulator>", "attribute 'elevation_speed'", "> 0"});
+  ExpectMentions(error("elevation_speed=\"0\""),
+                 {":2:", "<manipulator>", "attribute 'elevation_speed'", "> 0"});
   ExpectMentions(error("rotation_speed=\"-1\""), {":2:", "attribute 'rotation_speed'", "> 0"});
   ExpectMentions(error("switch_time=\"soon\""), {"attribute 'switch_time'", "not a finite number"});
   ExpectMentions(error("min_elevation=\"-0.01\""), {"attribute 'min_elevation'", ">= 0"});
   ExpectMentions(error("min_elevation=\"0.1\" max_elevation=\"0.1\""),
-                 {":2:", "attribute 'max_elevation'", "must be below max_elevation", "min_elevation < max_elevation"});
+                 {":2:", "attribute 'max_elevation'", "must be below max_elevation",
+                  "min_elevation < max_elevation"});
   // Only one bound given: checked against the robot's other bound (0.2).
-  ExpectMentions(error("min_elevation=\"0.25\""), {"attribute 'min_elevation'", "(0.25) must be below max_elevation (0.2)"});
-  ExpectMentions(error("max_elevation=\"0.02\""), {"attribute 'max_elevation'", "(0.03) must be below max_elevation (0.02)"});
+  ExpectMentions(error("min_elevation=\"0.25\""),
+                 {"attribute 'min_elevation'", "(0.25) must be below max_elevation (0.2)"});
+  ExpectMentions(error("max_elevation=\"0.02\""),
+                 {"attribute 'max_elevation'", "(0.03) must be below max_elevation (0.02)"});
   ExpectMentions(error("elevation=\"0.1\""), {"attribute 'elevation'", "unknown attribute"});
   // A malformed bound is reported once, not also as an empty range.
   const std::string malformed = error("max_elevation=\"high\"");
@@ -211,23 +222,27 @@ TEST(ManipulatorActuator, BadAttributesAreReportedWithElementAndLine) {
 }
 
 TEST(ManipulatorActuator, RobotWithoutManipulatorIsRejected) {
-  const std::string m = LoadError(Experiment(Robot("r", false), Controllers(), "4,4,1", "", kDouble));
+  const std::string m =
+      LoadError(Experiment(Robot("r", false), Controllers(), "4,4,1", "", kDouble));
   ExpectMentions(m, {"<manipulator>: robot 'r' (a marxbot", "cannot carry this actuator",
                      "declare the marxbot with manipulator=\"true\""});
 }
 
 TEST(ManipulatorActuator, EnginesThatDoNotSimulateItRejectItAtLoadTime) {
-  const std::string m = LoadError(Experiment(Robot("r"), Controllers(), "4,4,1", "", "<kinematics2d id=\"k2d\"/>"));
+  const std::string m =
+      LoadError(Experiment(Robot("r"), Controllers(), "4,4,1", "", "<kinematics2d id=\"k2d\"/>"));
   ExpectMentions(m, {"<manipulator>: robot 'r' (a marxbot",
-                     "its physics engine (kinematics2d 'k2d') does not simulate the manipulator of a marxbot; use dynamics3d"});
+                     "its physics engine (kinematics2d 'k2d') does not simulate the manipulator of "
+                     "a marxbot; use dynamics3d"});
 }
 
 TEST(ManipulatorActuator, RegisteredAttributesMatchTheReadme) {
   const auto* entry = Registry<ActuatorSystem>::Get().Find("manipulator");
   ASSERT_NE(entry, nullptr);
   const std::vector<std::string> registered = entry->info.AttributeNames();
-  EXPECT_EQ(registered, (std::vector<std::string>{"min_elevation", "max_elevation", "elevation_speed",
-                                                  "rotation_speed", "switch_time"}));
+  EXPECT_EQ(registered,
+            (std::vector<std::string>{"min_elevation", "max_elevation", "elevation_speed",
+                                      "rotation_speed", "switch_time"}));
   EXPECT_EQ(testing::ReadmeAttributes("actuators/manipulator"), registered);
 }
 

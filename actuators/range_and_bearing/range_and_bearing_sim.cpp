@@ -3,7 +3,6 @@
 // which indexes it by the robot's position after physics; receivers read it
 // in the same tick's sense step.
 #include "actuators/range_and_bearing/range_and_bearing.h"
-
 #include "core/device.h"
 #include "core/simulation.h"
 #include "media/range_and_bearing/range_and_bearing_medium.h"
@@ -11,8 +10,8 @@
 namespace colony {
 namespace {
 
-constexpr int64_t kDefaultDataSize = 10;    // bytes
-constexpr int64_t kMaxDataSize = 1 << 16;   // bytes
+constexpr int64_t kDefaultDataSize = 10;   // bytes
+constexpr int64_t kMaxDataSize = 1 << 16;  // bytes
 
 struct RabEmitterInstance : RangeAndBearingActuator, InstanceBase {
   using Interface = RangeAndBearingActuator;
@@ -25,8 +24,9 @@ class RabActuatorSystem : public ActuatorSystem {
   void Configure(const ConfigNode& node) override {
     medium_ = dynamic_cast<RangeAndBearingMedium*>(sim().MediumFor(node, "range_and_bearing"));
     data_size_ = static_cast<size_t>(node.GetInt("data_size", kDefaultDataSize, 1, kMaxDataSize));
-    range_ = node.GetDouble("range", medium_ ? medium_->default_range() : RangeAndBearingMedium::kDefaultRange,
-                            Range::Positive());
+    range_ = node.GetDouble(
+        "range", medium_ ? medium_->default_range() : RangeAndBearingMedium::kDefaultRange,
+        Range::Positive());
   }
   // The payload, and the medium's staged and published copies of it.
   size_t BytesPerRobot() const override { return 3 * data_size_; }
@@ -67,12 +67,13 @@ class RabActuatorSystem : public ActuatorSystem {
 
 COLONY_REGISTER_ACTUATOR(
     RabActuatorSystem, "range_and_bearing", "default",
-    "range-and-bearing emitter: broadcasts a payload of data_size bytes every tick to the receivers within range",
+    "range-and-bearing emitter: broadcasts a payload of data_size bytes every tick to the "
+    "receivers within range",
     (std::vector<AttributeDoc>{
         {"data_size", "an integer in [1, 65536] (bytes)", "10", "size of the payload"},
         {"range", "a number > 0 (m)", "the medium's (3)", "how far the messages reach"},
-        {"medium", "the id of a <range_and_bearing> in <media>", "the only one, or one with default settings",
-         "which medium carries the messages"},
+        {"medium", "the id of a <range_and_bearing> in <media>",
+         "the only one, or one with default settings", "which medium carries the messages"},
     }));
 
 }  // namespace

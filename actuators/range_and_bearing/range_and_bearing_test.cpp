@@ -6,16 +6,16 @@
 #include <vector>
 
 #include "core/registry.h"
-#include "sensors/range_and_bearing/range_and_bearing.h"
 #include "media/test_util.h"
+#include "sensors/range_and_bearing/range_and_bearing.h"
 
 namespace colony {
 namespace {
 
+using testing::ExpectMentions;
 using testing::Experiment;
 using testing::LoadError;
 using testing::LoadXml;
-using testing::ExpectMentions;
 using testing::ReadmeAttributes;
 
 // The sender runs a script of actuator calls, one per control step (param
@@ -44,11 +44,20 @@ class RabScript : public Controller {
     if (!actuator_ || step_ >= script_.size()) return;
     static const uint8_t kHello[] = {'h', 'e', 'l', 'l', 'o'};
     switch (script_[step_++]) {
-      case 'd': actuator_->SetData(kHello); break;
-      case 'b': actuator_->SetByte(1, 'X'); break;
-      case 'B': actuator_->SetByte(99, 'X'); break;
-      case 'c': actuator_->Clear(); break;
-      default: break;
+      case 'd':
+        actuator_->SetData(kHello);
+        break;
+      case 'b':
+        actuator_->SetByte(1, 'X');
+        break;
+      case 'B':
+        actuator_->SetByte(99, 'X');
+        break;
+      case 'c':
+        actuator_->Clear();
+        break;
+      default:
+        break;
     }
   }
   std::vector<std::vector<uint8_t>> heard;
@@ -61,13 +70,16 @@ class RabScript : public Controller {
   const RangeAndBearingSensor* sensor_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(RabScript, "rab_script", "test: scripted range-and-bearing emitter and receiver");
+COLONY_REGISTER_CONTROLLER(RabScript, "rab_script",
+                           "test: scripted range-and-bearing emitter and receiver");
 
 std::string Scene(const std::string& actuator, const std::string& script, double distance = 1.0) {
   return Experiment(
       "<marxbot id=\"tx\"><body position=\"0,0,0\"/><controller config=\"tx\"/></marxbot>"
-      "<marxbot id=\"rx\"><body position=\"" + std::to_string(distance) + ",0,0\"/><controller config=\"rx\"/></marxbot>",
-      "<rab_script id=\"tx\"><actuators><range_and_bearing " + actuator + "/></actuators><params script=\"" + script +
+      "<marxbot id=\"rx\"><body position=\"" +
+          std::to_string(distance) + ",0,0\"/><controller config=\"rx\"/></marxbot>",
+      "<rab_script id=\"tx\"><actuators><range_and_bearing " + actuator +
+          "/></actuators><params script=\"" + script +
           "\"/></rab_script>"
           "<rab_script id=\"rx\"><sensors><range_and_bearing/></sensors></rab_script>",
       "8,8,1");
@@ -105,8 +117,8 @@ TEST(RangeAndBearingActuator, SetDataSetByteAndClear) {
   EXPECT_EQ(ticks[1], V{Bytes(std::string("hello\0", 6))});  // the rest zeroed
   EXPECT_EQ(ticks[2], V{Bytes(std::string("hXllo\0", 6))});
   EXPECT_EQ(ticks[3], V{Bytes(std::string("hXllo\0", 6))});  // index beyond the size: ignored
-  EXPECT_EQ(ticks[4], V{});                                   // cleared: silent
-  EXPECT_EQ(ticks[5], V{});                                   // stays silent
+  EXPECT_EQ(ticks[4], V{});                                  // cleared: silent
+  EXPECT_EQ(ticks[5], V{});                                  // stays silent
   EXPECT_EQ(ticks[6], V{Bytes(std::string("hello\0", 6))});  // sending again
 }
 

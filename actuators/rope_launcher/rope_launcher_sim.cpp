@@ -53,8 +53,9 @@ class RopeLauncherSystem : public ActuatorSystem {
         if (!a.warned) {
           // Chunks run in parallel: the log is thread-safe, the flag is the instance's own.
           a.warned = true;
-          LogWarning("robot '" + space.id(a.robot.index) + "': rope climb speed " + FormatNumber(speed) +
-                     " m/s is beyond its motor's fastest, " + FormatNumber(rope.max_climb_speed) +
+          LogWarning("robot '" + space.id(a.robot.index) + "': rope climb speed " +
+                     FormatNumber(speed) + " m/s is beyond its motor's fastest, " +
+                     FormatNumber(rope.max_climb_speed) +
                      " m/s; it moves at that speed (said once per robot)");
         }
         speed = std::clamp(speed, -rope.max_climb_speed, rope.max_climb_speed);
@@ -67,10 +68,11 @@ class RopeLauncherSystem : public ActuatorSystem {
   InstanceStore<RopeLauncherInstance> instances_;
 };
 
-COLONY_REGISTER_ACTUATOR(RopeLauncherSystem, "rope_launcher", "default",
-                         "the hand-bot's rope launcher: fire the magnet to the ceiling, climb up or down the rope "
-                         "(m/s, force-limited motor), retrieve (needs an engine that simulates it: dynamics3d)",
-                         (std::vector<AttributeDoc>{}));
+COLONY_REGISTER_ACTUATOR(
+    RopeLauncherSystem, "rope_launcher", "default",
+    "the hand-bot's rope launcher: fire the magnet to the ceiling, climb up or down the rope "
+    "(m/s, force-limited motor), retrieve (needs an engine that simulates it: dynamics3d)",
+    (std::vector<AttributeDoc>{}));
 
 }  // namespace
 }  // namespace colony

@@ -3,12 +3,13 @@
 // ceiling within reach and fails otherwise; climbing lifts the robot, the
 // traction reads its weight while it hangs, going down returns it; the
 // motor's speed and force limit what it does; bad setups are refused.
+#include "actuators/rope_launcher/rope_launcher.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
-#include "actuators/rope_launcher/rope_launcher.h"
 #include "actuators/rope_launcher/rope_state.h"
 #include "core/registry.h"
 #include "entities/handbot/handbot.h"
@@ -50,16 +51,22 @@ constexpr double kGravity = 9.81;
 std::string Scene(const std::string& ceiling, const std::string& handbot_attributes = "",
                   const std::string& more = "",
                   const std::string& engine = "<dynamics3d id=\"d3d\" stepper=\"worldstep\"/>") {
-  return "<colony><framework><experiment length=\"100\" ticks_per_second=\"10\" random_seed=\"3\"/></framework>"
-         "<controllers><rope_probe id=\"rp\"><actuators><rope_launcher/></actuators><sensors><rope_traction/>"
+  return "<colony><framework><experiment length=\"100\" ticks_per_second=\"10\" "
+         "random_seed=\"3\"/></framework>"
+         "<controllers><rope_probe "
+         "id=\"rp\"><actuators><rope_launcher/></actuators><sensors><rope_traction/>"
          "</sensors></rope_probe></controllers><arena size=\"3,3,3\" center=\"0,0,1.5\">" +
          ceiling + "<handbot id=\"h\" " + handbot_attributes +
-         "><body position=\"0,0,0\"/><controller config=\"rp\"/></handbot>" + more + "</arena><physics_engines>" +
-         engine + "</physics_engines></colony>";
+         "><body position=\"0,0,0\"/><controller config=\"rp\"/></handbot>" + more +
+         "</arena><physics_engines>" + engine + "</physics_engines></colony>";
 }
 
-RopeProbe& Probe(Simulation& sim) { return dynamic_cast<RopeProbe&>(*sim.ControllerOf(sim.space().Find("h"))); }
-double Height(Simulation& sim) { return sim.space().pose(sim.space().Find("h").index).position.z(); }
+RopeProbe& Probe(Simulation& sim) {
+  return dynamic_cast<RopeProbe&>(*sim.ControllerOf(sim.space().Find("h")));
+}
+double Height(Simulation& sim) {
+  return sim.space().pose(sim.space().Find("h").index).position.z();
+}
 void RunFor(Simulation& sim, double seconds) {
   const int ticks = static_cast<int>(std::lround(seconds / sim.dt()));
   for (int t = 0; t < ticks; ++t) sim.Step();
@@ -93,7 +100,8 @@ TEST(RopeLauncher, ALaunchFailsWithoutAFerromagneticCeilingWithinReach) {
        {std::string(""), std::string("<ceiling height=\"2.5\" ferromagnetic=\"false\"/>"),
         std::string("<ceiling height=\"3\"/>")}) {
     // The last: the ceiling 2.67 m above the launcher, a rope of 2.5 m.
-    auto sim = LoadXml(Scene(ceiling, ceiling.find("\"3\"") != std::string::npos ? "rope_length=\"2.5\"" : ""));
+    auto sim = LoadXml(
+        Scene(ceiling, ceiling.find("\"3\"") != std::string::npos ? "rope_length=\"2.5\"" : ""));
     RopeProbe& p = Probe(*sim);
     p.launch = true;
     RunFor(*sim, 0.5);
@@ -104,8 +112,9 @@ TEST(RopeLauncher, ALaunchFailsWithoutAFerromagneticCeilingWithinReach) {
     EXPECT_NEAR(Height(*sim), 0.0, 1e-3) << "nothing to climb";
   }
   // A board over the robot stops the magnet before the ceiling.
-  auto sim = LoadXml(Scene("<ceiling height=\"2.5\"/>", "",
-                           "<box id=\"board\" size=\"0.5,0.5,0.02\"><body position=\"0,0,1.5\"/></box>"));
+  auto sim =
+      LoadXml(Scene("<ceiling height=\"2.5\"/>", "",
+                    "<box id=\"board\" size=\"0.5,0.5,0.02\"><body position=\"0,0,1.5\"/></box>"));
   RopeProbe& p = Probe(*sim);
   p.launch = true;
   RunFor(*sim, 0.5);
@@ -188,19 +197,24 @@ TEST(RopeLauncher, RetrievingTheRopeDropsAHangingRobot) {
 
 TEST(RopeLauncher, BadSetupsAreRefusedAtLoad) {
   // A hand-bot in a 2D engine.
-  EXPECT_TRUE(Mentions(LoadError(Scene("", "", "", "<kinematics2d id=\"k2d\"/>")), {"handbot", "kinematics2d"}));
+  EXPECT_TRUE(Mentions(LoadError(Scene("", "", "", "<kinematics2d id=\"k2d\"/>")),
+                       {"handbot", "kinematics2d"}));
   // The rope devices on a robot without a rope.
   const std::string marxbot =
       "<colony><framework><experiment length=\"10\" ticks_per_second=\"10\"/></framework>"
-      "<controllers><rope_probe id=\"rp\"><actuators><rope_launcher/></actuators><sensors><rope_traction/>"
-      "</sensors></rope_probe></controllers><arena size=\"3,3,3\" center=\"0,0,1.5\"><marxbot id=\"m\">"
+      "<controllers><rope_probe "
+      "id=\"rp\"><actuators><rope_launcher/></actuators><sensors><rope_traction/>"
+      "</sensors></rope_probe></controllers><arena size=\"3,3,3\" center=\"0,0,1.5\"><marxbot "
+      "id=\"m\">"
       "<body position=\"0,0,0\"/><controller config=\"rp\"/></marxbot></arena><physics_engines>"
       "<dynamics3d id=\"d3d\"/></physics_engines></colony>";
   EXPECT_TRUE(Mentions(LoadError(marxbot), {"<rope_launcher>", "'m'", "rope"}));
   // A ceiling lower than the hand-bot (0.33 m tall).
-  EXPECT_TRUE(Mentions(LoadError(Scene("<ceiling height=\"0.3\"/>")), {"'h'", "reaches above the ceiling"}));
+  EXPECT_TRUE(Mentions(LoadError(Scene("<ceiling height=\"0.3\"/>")),
+                       {"'h'", "reaches above the ceiling"}));
   // Bad attributes.
-  EXPECT_TRUE(Mentions(LoadError(Scene("", "rope_length=\"-1\"")), {"<handbot id=\"h\">", "rope_length", "'-1'"}));
+  EXPECT_TRUE(Mentions(LoadError(Scene("", "rope_length=\"-1\"")),
+                       {"<handbot id=\"h\">", "rope_length", "'-1'"}));
   EXPECT_TRUE(Mentions(LoadError(Scene("", "climb_speed=\"fast\"")), {"climb_speed", "'fast'"}));
 }
 

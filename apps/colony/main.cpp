@@ -37,14 +37,17 @@ using colony::ConfigError;
 
 constexpr const char* kUsage =
     "usage:\n"
-    "  colony run FILE.xml [--threads N] [--seed S] [--set PATH=VALUE]... [--out DIR] [--overwrite]\n"
+    "  colony run FILE.xml [--threads N] [--seed S] [--set PATH=VALUE]... [--out DIR] "
+    "[--overwrite]\n"
     "             [--quiet] [--frames DIR] [--video FILE.mp4]\n"
     "  colony query [KIND|NAME]      list plugins (kinds: entity, engine, physics_model, sensor,\n"
     "                                actuator, medium, renderer, controller, loop_functions)\n"
-    "  colony sweep FILE.xml [--param PATH=V1,V2,...]... [--seeds 1..30] [--jobs N] [--out DIR] ...\n"
+    "  colony sweep FILE.xml [--param PATH=V1,V2,...]... [--seeds 1..30] [--jobs N] [--out DIR] "
+    "...\n"
     "                                many runs over parameters and seeds (colony sweep --help)\n"
     "  colony version\n"
-    "--set overrides an attribute: framework.experiment.length=10, arena.distribute.entity.quantity=50,\n"
+    "--set overrides an attribute: framework.experiment.length=10, "
+    "arena.distribute.entity.quantity=50,\n"
     "  controllers.diffusion[dc].params.velocity=0.1 (name[id] picks an element by id)\n"
     "--frames DIR writes PNG frames there (the file's <visualization>, else a camera over the\n"
     "  arena); --video FILE.mp4 also assembles them with ffmpeg (frames then go to the run\n"
@@ -58,7 +61,8 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-long long ParseWhole(const std::string& option, const std::string& text, long long min, long long max) {
+long long ParseWhole(const std::string& option, const std::string& text, long long min,
+                     long long max) {
   long long v = 0;
   const std::string problem = colony::ParseWholeOption(option, text, min, max, v);
   if (!problem.empty()) throw UsageError(problem);
@@ -76,8 +80,8 @@ class Progress {
     last_ = now;
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     if (sim.length_ticks() == 0) {
-      std::fprintf(stderr, "\r  tick %llu  %.1f s simulated  %.1f s elapsed ", static_cast<unsigned long long>(sim.tick()),
-                   sim.time(), elapsed);
+      std::fprintf(stderr, "\r  tick %llu  %.1f s simulated  %.1f s elapsed ",
+                   static_cast<unsigned long long>(sim.tick()), sim.time(), elapsed);
       return;
     }
     const double f = static_cast<double>(sim.tick()) / sim.length_ticks();
@@ -85,9 +89,9 @@ class Progress {
     std::string bar(filled, '=');
     if (filled < width) bar += '>' + std::string(width - filled - 1, ' ');
     const double left = f > 0 ? elapsed * (1 - f) / f : 0;
-    std::fprintf(stderr, "\r  [%s] %3.0f%%  tick %llu/%llu  %.1f s elapsed, %.1f s left ", bar.c_str(), 100 * f,
-                 static_cast<unsigned long long>(sim.tick()), static_cast<unsigned long long>(sim.length_ticks()),
-                 elapsed, left);
+    std::fprintf(stderr, "\r  [%s] %3.0f%%  tick %llu/%llu  %.1f s elapsed, %.1f s left ",
+                 bar.c_str(), 100 * f, static_cast<unsigned long long>(sim.tick()),
+                 static_cast<unsigned long long>(sim.length_ticks()), elapsed, left);
   }
   void Finish() {
     if (enabled_) std::fprintf(stderr, "\n");
@@ -111,9 +115,13 @@ std::vector<std::string> MakeVideos(const std::vector<colony::FrameSeries>& seri
     char fps[32];
     std::snprintf(fps, sizeof fps, "%.6g", s.frames_per_second);
     std::vector<std::string> words = {
-        "ffmpeg", "-y", "-loglevel", "error", "-framerate", fps, "-i", s.pattern,
-        "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",  // H.264 players want even sizes
-        "-pix_fmt", "yuv420p", out};
+        "ffmpeg",     "-y",
+        "-loglevel",  "error",
+        "-framerate", fps,
+        "-i",         s.pattern,
+        "-vf",        "pad=ceil(iw/2)*2:ceil(ih/2)*2",  // H.264 players want even sizes
+        "-pix_fmt",   "yuv420p",
+        out};
     std::vector<char*> argv;
     for (auto& w : words) argv.push_back(w.data());
     argv.push_back(nullptr);
@@ -145,7 +153,8 @@ int Run(const std::vector<std::string>& args) {
     } else if (a == "--set") {
       const std::string spec = value("--set");
       if (spec.find('=') == std::string::npos || spec.front() == '=') {
-        throw UsageError("--set '" + spec + "': expected PATH=VALUE, e.g. framework.experiment.length=10");
+        throw UsageError("--set '" + spec +
+                         "': expected PATH=VALUE, e.g. framework.experiment.length=10");
       }
       options.overrides.push_back(spec);
     } else if (a == "--out") {
@@ -166,7 +175,8 @@ int Run(const std::vector<std::string>& args) {
     } else if (options.file.empty()) {
       options.file = a;
     } else {
-      throw UsageError("more than one experiment file given ('" + options.file + "' and '" + a + "')");
+      throw UsageError("more than one experiment file given ('" + options.file + "' and '" + a +
+                       "')");
     }
   }
   if (options.file.empty()) throw UsageError("colony run needs an experiment file");
@@ -185,8 +195,10 @@ int Run(const std::vector<std::string>& args) {
   // Output folders are checked before loading: a long load should not end in
   // a refusal.
   try {
-    if (!out_dir.empty()) colony::PrepareOutputFolder(out_dir, "--out", overwrite, colony::RunFolderFiles());
-    if (!frames_dir.empty()) colony::PrepareOutputFolder(frames_dir, "--frames", overwrite, {"*.png"});
+    if (!out_dir.empty())
+      colony::PrepareOutputFolder(out_dir, "--out", overwrite, colony::RunFolderFiles());
+    if (!frames_dir.empty())
+      colony::PrepareOutputFolder(frames_dir, "--frames", overwrite, {"*.png"});
   } catch (const colony::OutputFolderInUse& e) {
     throw UsageError(e.what());
   }
@@ -200,7 +212,8 @@ int Run(const std::vector<std::string>& args) {
   if (!frames_dir.empty()) {
     for (const auto& r : sim->renderers()) r->set_output_dir(frames_dir);
   }
-  const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double load_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (out_dir.empty()) out_dir = colony::FreshRunDir("runs", options.file);
   colony::RunOutput output(out_dir, *sim);
   Progress progress(!quiet && isatty(STDERR_FILENO));
@@ -209,7 +222,8 @@ int Run(const std::vector<std::string>& args) {
                                         [&](const colony::Simulation& s) { progress.Update(s); });
   progress.Finish();
   if (!summary.completed) {
-    std::fprintf(stderr, "colony: %s; results so far in %s/ (summary.json says \"completed\": false)\n",
+    std::fprintf(stderr,
+                 "colony: %s; results so far in %s/ (summary.json says \"completed\": false)\n",
                  summary.stop_reason.c_str(), output.dir().c_str());
     return 128 + colony::StopSignal();
   }
@@ -223,11 +237,15 @@ int Run(const std::vector<std::string>& args) {
     }
   }
   if (!quiet) {
-    std::printf("%llu ticks (%.1f s simulated) of %zu robots in %.2f s (%.3g robot-steps/s, %d thread%s)\n",
-                static_cast<unsigned long long>(summary.ticks), summary.simulated_seconds, summary.robots,
-                summary.wall_seconds, summary.robot_steps_per_second, summary.threads, summary.threads == 1 ? "" : "s");
-    std::printf("final state hash %s\n", colony::StateHasher::Hex(summary.final_state_hash).c_str());
-    std::printf("results in %s/ (experiment.xml, metrics.csv, summary.json)\n", output.dir().c_str());
+    std::printf(
+        "%llu ticks (%.1f s simulated) of %zu robots in %.2f s (%.3g robot-steps/s, %d thread%s)\n",
+        static_cast<unsigned long long>(summary.ticks), summary.simulated_seconds, summary.robots,
+        summary.wall_seconds, summary.robot_steps_per_second, summary.threads,
+        summary.threads == 1 ? "" : "s");
+    std::printf("final state hash %s\n",
+                colony::StateHasher::Hex(summary.final_state_hash).c_str());
+    std::printf("results in %s/ (experiment.xml, metrics.csv, summary.json)\n",
+                output.dir().c_str());
   }
   return 0;
 }
@@ -263,19 +281,22 @@ int Query(const std::vector<std::string>& args) {
       }
       any = true;
       std::printf("  %s", p->label.c_str());
-      if (p->implementation != "default") std::printf(" (implementation=\"%s\")", p->implementation.c_str());
+      if (p->implementation != "default")
+        std::printf(" (implementation=\"%s\")", p->implementation.c_str());
       for (const auto& a : p->aliases) std::printf(", alias %s", a.c_str());
       std::printf("\n      %s\n", p->summary.c_str());
       if (!p->library.empty()) std::printf("      library: %s\n", p->library.c_str());
       if (kind == colony::PluginKind::kPhysicsModel) {
-        std::printf("      simulates: %s\n",
-                    p->components.empty() ? "(no components)" : colony::Join(p->components).c_str());
+        std::printf("      simulates: %s\n", p->components.empty()
+                                                 ? "(no components)"
+                                                 : colony::Join(p->components).c_str());
       }
       if (name_match || kind_match) {
         for (const auto& a : p->attributes) {
           std::printf("      %s = %s%s%s\n          %s\n", a.name.c_str(), a.accepted.c_str(),
                       a.default_value.empty() ? " (required)" : "  [default: ",
-                      a.default_value.empty() ? "" : (a.default_value + "]").c_str(), a.summary.c_str());
+                      a.default_value.empty() ? "" : (a.default_value + "]").c_str(),
+                      a.summary.c_str());
         }
       }
     }
@@ -307,13 +328,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "colony: %s\n%s", e.what(), kUsage);
     return 2;
   } catch (const ConfigError& e) {
-    for (const auto& d : e.diagnostics()) std::fprintf(stderr, "colony: error: %s\n", d.ToString().c_str());
+    for (const auto& d : e.diagnostics())
+      std::fprintf(stderr, "colony: error: %s\n", d.ToString().c_str());
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "\ncolony: run failed: %s\n", e.what());
     return 1;
   } catch (...) {
-    std::fprintf(stderr, "\ncolony: run failed: a plugin threw something that is not a std::exception\n");
+    std::fprintf(stderr,
+                 "\ncolony: run failed: a plugin threw something that is not a std::exception\n");
     return 1;
   }
 }

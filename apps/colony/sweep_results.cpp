@@ -8,9 +8,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "apps/colony/sweep.h"
 #include "core/output.h"
@@ -108,7 +107,8 @@ void AddRunOutput(Row& row, const fs::path& run_dir, bool completed) {
     for (const char* c : kSummaryColumns) {
       if (summary.contains(c)) Set(row, c, FieldText(summary[c]));
     }
-    for (const auto& [name, value] : summary["metrics"].items()) AddMetric(row, name, FieldText(value));
+    for (const auto& [name, value] : summary["metrics"].items())
+      AddMetric(row, name, FieldText(value));
     return;
   }
   const auto last = LastMetricsRow(run_dir / "metrics.csv");
@@ -193,8 +193,8 @@ Row MakeRow(const Grid& grid, const RunSpec& run, const RunEnd& end, const std::
   RunEnd result = end;
   // Finished means a summary that parses, has every key and says completed.
   const fs::path summary_file = fs::path(run_dir) / "summary.json";
-  const std::string problem =
-      fs::exists(summary_file) ? SummaryProblem(ReadText(summary_file)) : "there is no summary.json";
+  const std::string problem = fs::exists(summary_file) ? SummaryProblem(ReadText(summary_file))
+                                                       : "there is no summary.json";
   const bool completed = problem.empty();
   if (result.status == RunEnd::Status::kOk && !completed) {
     result = {RunEnd::Status::kFailed, end.wall_seconds,

@@ -64,8 +64,8 @@ std::vector<std::string> RunArgs(const Grid& grid, const RunSpec& run,
     args.push_back("--set");
     args.push_back(grid.params[k].path + "=" + run.values[k]);
   }
-  args.insert(args.end(),
-              {"--seed", std::to_string(run.seed), "--out", RunDir(options.dir, run), "--overwrite", "--quiet"});
+  args.insert(args.end(), {"--seed", std::to_string(run.seed), "--out", RunDir(options.dir, run),
+                           "--overwrite", "--quiet"});
   if (options.threads) args.insert(args.end(), {"--threads", std::to_string(*options.threads)});
   return args;
 }
@@ -235,8 +235,11 @@ RunnerTotals RunAll(const Grid& grid, const std::vector<size_t>& pending, size_t
       fs::remove_all(dir);
       fs::create_directories(dir);
       const auto start = Clock::now();
-      running.push_back(
-          {Spawn(RunArgs(grid, run, options), dir + "/run.log", signals.old()), run.index, start, false, {}});
+      running.push_back({Spawn(RunArgs(grid, run, options), dir + "/run.log", signals.old()),
+                         run.index,
+                         start,
+                         false,
+                         {}});
     }
     // Kill the runs past their timeout (their end is recorded when reaped).
     auto wait = std::chrono::milliseconds(100);

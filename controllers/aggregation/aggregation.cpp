@@ -91,11 +91,12 @@ class Aggregation : public colony::Controller {
   colony::Leds* leds_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(Aggregation, "aggregation",
-                           "probabilistic aggregation: walk, stop with a probability rising with the "
-                           "staying neighbours heard through range-and-bearing, leave with one "
-                           "falling with them; params velocity, sense_range, join_spontaneous, "
-                           "join_max, join_slope, leave_max, leave_slope, leave_ticks, "
-                           "turn_probability, turn_ticks");
+COLONY_REGISTER_CONTROLLER(
+    Aggregation, "aggregation",
+    "probabilistic aggregation: walk, stop with a probability rising with the "
+    "staying neighbours heard through range-and-bearing, leave with one "
+    "falling with them; params velocity, sense_range, join_spontaneous, "
+    "join_max, join_slope, leave_max, leave_slope, leave_ticks, "
+    "turn_probability, turn_ticks");
 
 }  // namespace

@@ -51,7 +51,8 @@ Point ParsePoint(const colony::Params& params, const char* key) {
   const std::string text = params.GetString(key);
   Point p;
   if (!ReadPoint(text, p)) {
-    throw colony::ParamError(key, text, std::string("parameter '") + key + "': '" + text + "' is not \"x,y\"");
+    throw colony::ParamError(key, text,
+                             std::string("parameter '") + key + "': '" + text + "' is not \"x,y\"");
   }
   return p;
 }
@@ -60,11 +61,11 @@ Point ParsePoint(const colony::Params& params, const char* key) {
 // the magnet face is 0.115 m ahead of the robot's axis with the magnet side
 // forwards, so a held 6 cm cube's centre is 0.145 m ahead, level with the
 // magnet's centre.
-constexpr double kHeldAhead = 0.145;     // m
-constexpr double kCubeSide = 0.06;       // m
-constexpr double kGroundAhead = 0.065;   // m: the front ground sensor
-constexpr double kLowElevation = 0.03;   // m: the magnet level with a cube's lower half
-constexpr double kCarryElevation = 0.10; // m
+constexpr double kHeldAhead = 0.145;      // m
+constexpr double kCubeSide = 0.06;        // m
+constexpr double kGroundAhead = 0.065;    // m: the front ground sensor
+constexpr double kLowElevation = 0.03;    // m: the magnet level with a cube's lower half
+constexpr double kCarryElevation = 0.10;  // m
 // Front proximity reading (0.01 m / d) with a cube face 3.3 cm from the ring:
 // the cube's face then touches the magnet's.
 constexpr double kTouching = 0.22;
@@ -74,21 +75,26 @@ class Construction : public colony::Controller {
   void Init(const colony::Params& params) override {
     task_ = params.GetString("task");
     if (task_ != "bridge" && task_ != "tower") {
-      throw colony::ParamError("task", task_, "parameter 'task': '" + task_ + "' is not accepted; accepted: bridge, tower");
+      throw colony::ParamError(
+          "task", task_,
+          "parameter 'task': '" + task_ + "' is not accepted; accepted: bridge, tower");
     }
     const std::string cubes = params.GetString("cubes");
     std::stringstream list(cubes);
     for (std::string item; std::getline(list, item, ';');) {
       Point p;
       if (!ReadPoint(item, p)) {
-        throw colony::ParamError("cubes", cubes, "parameter 'cubes': '" + item + "' is not \"x,y\" (list: \"x,y;x,y\")");
+        throw colony::ParamError(
+            "cubes", cubes, "parameter 'cubes': '" + item + "' is not \"x,y\" (list: \"x,y;x,y\")");
       }
       cubes_.push_back(p);
     }
     const size_t needed = task_ == "bridge" ? 2 : 3;
     if (cubes_.size() != needed) {
-      throw colony::ParamError("cubes", cubes, "parameter 'cubes': a " + task_ + " takes " + std::to_string(needed) +
-                                                   " cubes, the list has " + std::to_string(cubes_.size()));
+      throw colony::ParamError("cubes", cubes,
+                               "parameter 'cubes': a " + task_ + " takes " +
+                                   std::to_string(needed) + " cubes, the list has " +
+                                   std::to_string(cubes_.size()));
     }
     site_ = ParsePoint(params, "site");
     const double heading = params.GetDouble("heading", 0, -360, 360) * M_PI / 180;
@@ -119,15 +125,18 @@ class Construction : public colony::Controller {
         const Point cube = cubes_[index_];
         if (ticks_in_phase_ == 1) {
           const double dx = x_ - cube.x, dy = y_ - cube.y;
-          face_normal_ = std::abs(dx) >= std::abs(dy) ? Point{std::copysign(1.0, dx), 0} : Point{0, std::copysign(1.0, dy)};
+          face_normal_ = std::abs(dx) >= std::abs(dy) ? Point{std::copysign(1.0, dx), 0}
+                                                      : Point{0, std::copysign(1.0, dy)};
         }
-        if (Steer({cube.x + 0.30 * face_normal_.x, cube.y + 0.30 * face_normal_.y}, 0.01)) Next(Phase::kFaceCube);
+        if (Steer({cube.x + 0.30 * face_normal_.x, cube.y + 0.30 * face_normal_.y}, 0.01))
+          Next(Phase::kFaceCube);
         break;
       }
       case Phase::kFaceCube:
         manipulator_->SetElevation(kLowElevation);
         manipulator_->DisengageMagnet();
-        if (Face(cubes_[index_]) && std::abs(arm_->elevation() - kLowElevation) < 0.005) Next(Phase::kApproachCube);
+        if (Face(cubes_[index_]) && std::abs(arm_->elevation() - kLowElevation) < 0.005)
+          Next(Phase::kApproachCube);
         break;
       case Phase::kApproachCube: {
         // Creep forwards, aimed at the cube, until the front sensors say its
@@ -198,7 +207,8 @@ class Construction : public colony::Controller {
           Next(Phase::kApproachSite);
           if (task_ == "tower") {
             // Over the tower's top with a centimetre to spare.
-            manipulator_->SetElevation(kLowElevation + (index_ == 0 ? 0.005 : index_ * kCubeSide + 0.01));
+            manipulator_->SetElevation(kLowElevation +
+                                       (index_ == 0 ? 0.005 : index_ * kCubeSide + 0.01));
           }
         }
         break;
@@ -248,7 +258,8 @@ class Construction : public colony::Controller {
       }
       case Phase::kLower:
         Stop();
-        if (std::abs(arm_->elevation() - manipulator_->elevation_target()) < 0.005 || ticks_in_phase_ > 50) {
+        if (std::abs(arm_->elevation() - manipulator_->elevation_target()) < 0.005 ||
+            ticks_in_phase_ > 50) {
           Next(Phase::kRelease);
         }
         break;
@@ -263,7 +274,8 @@ class Construction : public colony::Controller {
           manipulator_->SetElevation(kCarryElevation);
           Stop();
           ++index_;
-          Next(index_ < cubes_.size() ? Phase::kToCube : (task_ == "bridge" ? Phase::kToBridge : Phase::kDone));
+          Next(index_ < cubes_.size() ? Phase::kToCube
+                                      : (task_ == "bridge" ? Phase::kToBridge : Phase::kDone));
         }
         break;
       case Phase::kToBridge: {
@@ -285,8 +297,24 @@ class Construction : public colony::Controller {
 
  private:
   enum class Phase {
-    kToCube, kFaceCube, kApproachCube, kGrab, kRetreatAndRetry, kLift, kBackOffHolding, kToSite, kFaceSite, kApproachSite,
-    kAlignOverDitch, kLower, kRelease, kBackOff, kToBridge, kFaceGoal, kCross, kDone
+    kToCube,
+    kFaceCube,
+    kApproachCube,
+    kGrab,
+    kRetreatAndRetry,
+    kLift,
+    kBackOffHolding,
+    kToSite,
+    kFaceSite,
+    kApproachSite,
+    kAlignOverDitch,
+    kLower,
+    kRelease,
+    kBackOff,
+    kToBridge,
+    kFaceGoal,
+    kCross,
+    kDone
   };
 
   void Next(Phase p) {
@@ -308,7 +336,9 @@ class Construction : public colony::Controller {
   }
 
   double Distance(const Point& p) const { return std::hypot(p.x - x_, p.y - y_); }
-  double Bearing(const Point& p) const { return std::remainder(std::atan2(p.y - y_, p.x - x_) - yaw_, 2 * M_PI); }
+  double Bearing(const Point& p) const {
+    return std::remainder(std::atan2(p.y - y_, p.x - x_) - yaw_, 2 * M_PI);
+  }
   double FrontProximity() const {
     const auto& r = proximity_->readings();
     return std::max(r.front().value, r.back().value);  // the two sensors either side of the front
@@ -342,7 +372,8 @@ class Construction : public colony::Controller {
     }
     const double error = Bearing(p);
     const double turn = std::clamp(error * 0.3, -0.08, 0.08);
-    const double forward = std::abs(error) > 0.2 ? 0.0 : std::min(speed_, distance - stop_at + 0.01);
+    const double forward =
+        std::abs(error) > 0.2 ? 0.0 : std::min(speed_, distance - stop_at + 0.01);
     wheels_->SetLinearVelocity(forward - turn, forward + turn);
     return false;
   }
@@ -364,8 +395,9 @@ class Construction : public colony::Controller {
   colony::ManipulatorActuator* manipulator_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(Construction, "construction",
-                           "fetch cubes with the magnetic manipulator and build a bridge over a ditch (then cross "
-                           "it) or a tower; params task, cubes, site, heading, goal, ditch_width, speed");
+COLONY_REGISTER_CONTROLLER(
+    Construction, "construction",
+    "fetch cubes with the magnetic manipulator and build a bridge over a ditch (then cross "
+    "it) or a tower; params task, cubes, site, heading, goal, ditch_width, speed");
 
 }  // namespace

@@ -23,8 +23,10 @@ Point ParsePoint(const colony::Params& params, const char* key) {
   const std::string text = params.GetString(key);
   Point p;
   char extra = 0;
-  if (std::sscanf(text.c_str(), "%lf,%lf%c", &p.x, &p.y, &extra) != 2 || !std::isfinite(p.x) || !std::isfinite(p.y)) {
-    throw colony::ParamError(key, text, std::string("parameter '") + key + "': '" + text + "' is not \"x,y\"");
+  if (std::sscanf(text.c_str(), "%lf,%lf%c", &p.x, &p.y, &extra) != 2 || !std::isfinite(p.x) ||
+      !std::isfinite(p.y)) {
+    throw colony::ParamError(key, text,
+                             std::string("parameter '") + key + "': '" + text + "' is not \"x,y\"");
   }
   return p;
 }
@@ -91,7 +93,8 @@ class Fetch : public colony::Controller {
     }
     const double error = std::remainder(std::atan2(dy, dx) - yaw, 2 * M_PI);
     const double turn = std::clamp(error * 0.5, -speed_, speed_);
-    const double forward = std::abs(error) > 0.3 ? 0.0 : std::min(speed_, distance - stop_at + 0.01);
+    const double forward =
+        std::abs(error) > 0.3 ? 0.0 : std::min(speed_, distance - stop_at + 0.01);
     wheels_->SetLinearVelocity(forward - turn, forward + turn);
     return false;
   }
@@ -106,8 +109,9 @@ class Fetch : public colony::Controller {
   colony::GripperActuator* gripper_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(Fetch, "fetch",
-                           "drive to an object, grip it, drag it to a place, release it; params object=\"x,y\", "
-                           "place=\"x,y\", speed (m/s, 0.1), object_radius (m, 0.05)");
+COLONY_REGISTER_CONTROLLER(
+    Fetch, "fetch",
+    "drive to an object, grip it, drag it to a place, release it; params object=\"x,y\", "
+    "place=\"x,y\", speed (m/s, 0.1), object_radius (m, 0.05)");
 
 }  // namespace

@@ -53,9 +53,9 @@ class Flocking : public colony::Controller {
     emitter_ = &GetActuator<colony::RangeAndBearingActuator>("range_and_bearing");
     wheels_ = &GetActuator<colony::DifferentialSteering>("differential_steering");
     if (emitter_->size() < 2) {
-      throw std::runtime_error("the range_and_bearing actuator's payload holds " +
-                               std::to_string(emitter_->size()) +
-                               " byte(s); flocking sends its heading in 2 (give the actuator data_size=\"2\" or more)");
+      throw std::runtime_error(
+          "the range_and_bearing actuator's payload holds " + std::to_string(emitter_->size()) +
+          " byte(s); flocking sends its heading in 2 (give the actuator data_size=\"2\" or more)");
     }
   }
 
@@ -105,9 +105,10 @@ class Flocking : public colony::Controller {
   colony::DifferentialSteering* wheels_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(Flocking, "flocking",
-                           "align with and keep near the neighbours heard through range-and-bearing "
-                           "(each sends its heading); params velocity (m/s, 0.1), target_distance "
-                           "(m, 0.4), gain (1), max_repulsion (4), alignment (1), avoidance (5)");
+COLONY_REGISTER_CONTROLLER(
+    Flocking, "flocking",
+    "align with and keep near the neighbours heard through range-and-bearing "
+    "(each sends its heading); params velocity (m/s, 0.1), target_distance "
+    "(m, 0.4), gain (1), max_repulsion (4), alignment (1), avoidance (5)");
 
 }  // namespace

@@ -93,7 +93,8 @@ class ForagingLoopFunctions : public LoopFunctions {
     size_t carrying = 0;
     for (uint32_t i = 0; i < space.slots(); ++i) {
       if (!space.alive(i) || !(space.flags(i) & kRobot)) continue;
-      const auto* robot = dynamic_cast<const ForagingController*>(sim().ControllerOf(space.HandleOf(i)));
+      const auto* robot =
+          dynamic_cast<const ForagingController*>(sim().ControllerOf(space.HandleOf(i)));
       carrying += robot && robot->carrying();
     }
     Metrics& m = sim().metrics();
@@ -111,8 +112,10 @@ COLONY_REGISTER_LOOP_FUNCTIONS(
     ForagingLoopFunctions, "foraging",
     "items in a source area, picked up by foraging robots passing over them and counted when "
     "delivered to the nest; records items_returned and carrying every tick",
-    {{"nest", "\"x0,y0,x1,y1\" (m), x0 < x1, y0 < y1", "", "the nest: a carrying robot whose centre enters it delivers its item"},
-     {"source", "\"x0,y0,x1,y1\" (m), x0 < x1, y0 < y1", "", "where items lie (uniformly at random)"},
+    {{"nest", "\"x0,y0,x1,y1\" (m), x0 < x1, y0 < y1", "",
+      "the nest: a carrying robot whose centre enters it delivers its item"},
+     {"source", "\"x0,y0,x1,y1\" (m), x0 < x1, y0 < y1", "",
+      "where items lie (uniformly at random)"},
      {"items", "a whole number >= 1", "10", "items lying in the source at any time"},
      {"pickup_distance", "a number in [0.001, 100] (m)", "0.1",
       "a robot picks up an item when its centre comes this close"}});

@@ -46,15 +46,17 @@ class ObjectModel : public Dynamics2dModel {
   ObjectModel() : Dynamics2dModel(false) {}
 };
 
-COLONY_REGISTER_PHYSICS_MODEL(WheeledRobotModel, "dynamics2d:marxbot",
-                              "circular body driven by force- and torque-limited treels (slip when pushing hard)",
-                              (std::vector<std::string>{"drive", "gripper"}));
+COLONY_REGISTER_PHYSICS_MODEL(
+    WheeledRobotModel, "dynamics2d:marxbot",
+    "circular body driven by force- and torque-limited treels (slip when pushing hard)",
+    (std::vector<std::string>{"drive", "gripper"}));
 COLONY_REGISTER_PHYSICS_MODEL(ObjectModel, "dynamics2d:box",
                               "box: pushed against floor friction if movable, static otherwise",
                               (std::vector<std::string>{}));
-COLONY_REGISTER_PHYSICS_MODEL(ObjectModel, "dynamics2d:cylinder",
-                              "cylinder: pushed against floor friction if movable, static otherwise",
-                              (std::vector<std::string>{}));
+COLONY_REGISTER_PHYSICS_MODEL(
+    ObjectModel, "dynamics2d:cylinder",
+    "cylinder: pushed against floor friction if movable, static otherwise",
+    (std::vector<std::string>{}));
 
 class Dynamics2dEngine : public PhysicsEngine {
  public:
@@ -86,7 +88,8 @@ class Dynamics2dEngine : public PhysicsEngine {
     def.type = movable ? b2_dynamicBody : b2_staticBody;
     def.position.Set(static_cast<float>(pose.position.x()), static_cast<float>(pose.position.y()));
     def.angle = static_cast<float>(YawOf(pose.orientation));
-    def.linearVelocity.Set(static_cast<float>(twist.linear.x()), static_cast<float>(twist.linear.y()));
+    def.linearVelocity.Set(static_cast<float>(twist.linear.x()),
+                           static_cast<float>(twist.linear.y()));
     def.angularVelocity = static_cast<float>(twist.angular.z());
     def.userData.pointer = s;
     b2Body* body = world_->CreateBody(&def);
@@ -174,7 +177,8 @@ class Dynamics2dEngine : public PhysicsEngine {
       const float radius = static_cast<float>(space.geometry(s).radius);
       // The jaws close on the nearest body within reach, the lowest slot first.
       for (int step = 1; step <= 4 && !g->holding(); ++step) {
-        const b2Vec2 p = body->GetPosition() + (radius + static_cast<float>(g->reach * step / 4)) * dir;
+        const b2Vec2 p =
+            body->GetPosition() + (radius + static_cast<float>(g->reach * step / 4)) * dir;
         const uint32_t target = BodyAt(p, body);
         if (target == UINT32_MAX) continue;
         b2WeldJointDef joint;
@@ -230,8 +234,8 @@ class Dynamics2dEngine : public PhysicsEngine {
       fx *= max_force_ / f;
       fy *= max_force_ / f;
     }
-    const double torque =
-        std::clamp(body->GetInertia() * (w - body->GetAngularVelocity()) / h, -max_torque_, max_torque_);
+    const double torque = std::clamp(body->GetInertia() * (w - body->GetAngularVelocity()) / h,
+                                     -max_torque_, max_torque_);
     body->ApplyForceToCenter(b2Vec2(static_cast<float>(fx), static_cast<float>(fy)), true);
     body->ApplyTorque(static_cast<float>(torque), true);
   }
@@ -264,9 +268,9 @@ class Dynamics2dEngine : public PhysicsEngine {
 
   std::unique_ptr<b2World> world_;
   b2Body* ground_ = nullptr;
-  std::vector<b2Body*> bodies_;   // per space slot
-  std::vector<uint32_t> robots_;  // slots of wheeled robots, in the order they came
-  std::vector<uint32_t> objects_; // slots of movable objects
+  std::vector<b2Body*> bodies_;    // per space slot
+  std::vector<uint32_t> robots_;   // slots of wheeled robots, in the order they came
+  std::vector<uint32_t> objects_;  // slots of movable objects
   std::vector<Grip> grips_;
   int velocity_iterations_ = 8, position_iterations_ = 3, substeps_ = 2;
   double friction_ = 0.5, floor_friction_ = 0.5, max_force_ = 15.0, max_torque_ = 1.5;
@@ -277,13 +281,18 @@ COLONY_REGISTER_ENGINE(
     "top-down 2D rigid-body dynamics (Box2D): robots push movable objects against floor friction; "
     "treels have a maximum force and torque, beyond which they slip",
     (std::vector<AttributeDoc>{
-        {"iterations", "a whole number in [1, 1000]", "8", "Box2D velocity iterations per sub-step"},
-        {"position_iterations", "a whole number in [1, 1000]", "3", "Box2D position iterations per sub-step"},
+        {"iterations", "a whole number in [1, 1000]", "8",
+         "Box2D velocity iterations per sub-step"},
+        {"position_iterations", "a whole number in [1, 1000]", "3",
+         "Box2D position iterations per sub-step"},
         {"substeps", "a whole number in [1, 1000]", "2", "physics sub-steps per tick"},
         {"friction", "a number >= 0", "0.5", "friction coefficient between bodies"},
-        {"floor_friction", "a number >= 0", "0.5", "friction coefficient of objects sliding on the floor"},
-        {"robot_max_force", "a number > 0 (N)", "15", "most force the treels exert before slipping"},
-        {"robot_max_torque", "a number > 0 (N m)", "1.5", "most torque the treels exert before slipping"},
+        {"floor_friction", "a number >= 0", "0.5",
+         "friction coefficient of objects sliding on the floor"},
+        {"robot_max_force", "a number > 0 (N)", "15",
+         "most force the treels exert before slipping"},
+        {"robot_max_torque", "a number > 0 (N m)", "1.5",
+         "most torque the treels exert before slipping"},
     }));
 
 }  // namespace

@@ -24,20 +24,25 @@ class Pusher : public Controller {
 COLONY_REGISTER_CONTROLLER(Pusher, "dyn2d_pusher", "test: drives straight");
 
 const char* kPusher =
-    "<dyn2d_pusher id=\"p\"><actuators><differential_steering/></actuators><params speed=\"0.2\"/></dyn2d_pusher>";
+    "<dyn2d_pusher id=\"p\"><actuators><differential_steering/></actuators><params "
+    "speed=\"0.2\"/></dyn2d_pusher>";
 const char* kEngine = "<dynamics2d id=\"d2d\"/>";
 
 std::string Scene(const std::string& object) {
   return testing::Experiment(
-      "<marxbot id=\"r\"><body position=\"-0.5,0,0\"/><controller config=\"p\"/></marxbot>" + object, kPusher,
-      "4,4,1", "", kEngine);
+      "<marxbot id=\"r\"><body position=\"-0.5,0,0\"/><controller config=\"p\"/></marxbot>" +
+          object,
+      kPusher, "4,4,1", "", kEngine);
 }
 
-Vec3 PositionOf(Simulation& sim, const std::string& id) { return sim.space().pose(sim.space().Find(id).index).position; }
+Vec3 PositionOf(Simulation& sim, const std::string& id) {
+  return sim.space().pose(sim.space().Find(id).index).position;
+}
 
 TEST(Dynamics2d, RobotPushesAMovableBox) {
-  auto sim = testing::LoadXml(
-      Scene("<box id=\"b\" size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"0.3\"><body position=\"0,0,0\"/></box>"));
+  auto sim =
+      testing::LoadXml(Scene("<box id=\"b\" size=\"0.2,0.2,0.2\" movable=\"true\" "
+                             "mass=\"0.3\"><body position=\"0,0,0\"/></box>"));
   for (int t = 0; t < 50; ++t) sim->Step();
   const Vec3 box = PositionOf(*sim, "b");
   const Vec3 robot = PositionOf(*sim, "r");
@@ -47,7 +52,8 @@ TEST(Dynamics2d, RobotPushesAMovableBox) {
 }
 
 TEST(Dynamics2d, RobotCannotMoveAFixedWall) {
-  auto sim = testing::LoadXml(Scene("<box id=\"w\" size=\"0.1,1,0.3\"><body position=\"0,0,0\"/></box>"));
+  auto sim =
+      testing::LoadXml(Scene("<box id=\"w\" size=\"0.1,1,0.3\"><body position=\"0,0,0\"/></box>"));
   for (int t = 0; t < 80; ++t) sim->Step();
   EXPECT_EQ(PositionOf(*sim, "w"), Vec3(0, 0, 0));
   // The robot's front stops at the wall's face (x = -0.05), give or take Box2D's skin.
@@ -58,8 +64,9 @@ TEST(Dynamics2d, RobotCannotMoveAFixedWall) {
 
 TEST(Dynamics2d, TreelsSlipAgainstAnObjectTooHeavyToPush) {
   // Floor friction on 50 kg (about 245 N) is far beyond the treels' 15 N.
-  auto sim = testing::LoadXml(
-      Scene("<box id=\"b\" size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"50\"><body position=\"0,0,0\"/></box>"));
+  auto sim =
+      testing::LoadXml(Scene("<box id=\"b\" size=\"0.2,0.2,0.2\" movable=\"true\" "
+                             "mass=\"50\"><body position=\"0,0,0\"/></box>"));
   for (int t = 0; t < 60; ++t) sim->Step();
   EXPECT_NEAR(PositionOf(*sim, "b").x(), 0.0, 0.002);
   const uint32_t r = sim->space().Find("r").index;
@@ -76,12 +83,14 @@ TEST(Dynamics2d, RobotDrivesAtItsCommandedSpeedOnAFreeFloor) {
 }
 
 TEST(Dynamics2d, BadParametersAreRejectedWithElementAndLine) {
-  for (const char* bad_text : {"substeps=\"0\"", "friction=\"-1\"", "robot_max_force=\"nan\"", "iterations=\"x\""}) {
+  for (const char* bad_text :
+       {"substeps=\"0\"", "friction=\"-1\"", "robot_max_force=\"nan\"", "iterations=\"x\""}) {
     const std::string bad = bad_text;
     const std::string message = testing::LoadError(testing::Experiment(
         "", "", "4,4,1", "", std::string("<dynamics2d id=\"d2d\" ") + bad + "/>"));
     const std::string attribute = bad.substr(0, bad.find('='));
-    EXPECT_NE(message.find("<string>:1: <dynamics2d id=\"d2d\"> attribute '" + attribute + "'"), std::string::npos)
+    EXPECT_NE(message.find("<string>:1: <dynamics2d id=\"d2d\"> attribute '" + attribute + "'"),
+              std::string::npos)
         << bad << ": " << message;
   }
 }
@@ -102,7 +111,8 @@ TEST(Dynamics2dExamples, GrippingExperimentDragsTheCylinderIntoTheCorner) {
   const Vec3 end = sim->space().pose(cylinder).position;
   EXPECT_GT((end - start).norm(), 1.5) << "the cylinder was dragged across the arena";
   EXPECT_LT(std::hypot(end.x() - 1.3, end.y() - 1.3), 0.1) << "it ends at the corner";
-  EXPECT_FALSE(sim->space().Get<GripperState>(sim->space().Find("mb").index)->holding()) << "and was let go";
+  EXPECT_FALSE(sim->space().Get<GripperState>(sim->space().Find("mb").index)->holding())
+      << "and was let go";
 }
 
 }  // namespace

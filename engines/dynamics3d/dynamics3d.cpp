@@ -37,10 +37,12 @@ namespace dynamics3d {
 // A geom's data holds (owner slot << 8) | (part << 3) | material.
 namespace {
 void* Tag(uint32_t owner, Material material, uint8_t part = 0) {
-  return reinterpret_cast<void*>((static_cast<uintptr_t>(owner) << 8) | (static_cast<uintptr_t>(part) << 3) |
-                                 material);
+  return reinterpret_cast<void*>((static_cast<uintptr_t>(owner) << 8) |
+                                 (static_cast<uintptr_t>(part) << 3) | material);
 }
-uint8_t TagOf(dGeomID g) { return static_cast<uint8_t>(reinterpret_cast<uintptr_t>(dGeomGetData(g)) & 0xFF); }
+uint8_t TagOf(dGeomID g) {
+  return static_cast<uint8_t>(reinterpret_cast<uintptr_t>(dGeomGetData(g)) & 0xFF);
+}
 Material MaterialOf(dGeomID g) { return static_cast<Material>(TagOf(g) & 7); }
 }  // namespace
 
@@ -100,7 +102,8 @@ void Engine::AddSolid(uint32_t s, Material material) {
   if (material == kCube) cubes_.insert(std::lower_bound(cubes_.begin(), cubes_.end(), s), s);
 }
 
-bool Engine::CastRay(const Vec3& from, const Vec3& direction, double length, uint32_t ignore, RayHit& hit) {
+bool Engine::CastRay(const Vec3& from, const Vec3& direction, double length, uint32_t ignore,
+                     RayHit& hit) {
   if (!floor_built_) BuildFloor(sim().space());
   struct Query {
     dGeomID ray;
@@ -121,7 +124,8 @@ bool Engine::CastRay(const Vec3& from, const Vec3& direction, double length, uin
       q->found = true;
       q->hit->distance = c.depth;
       q->hit->point = ToVec(c.pos);
-      q->hit->material = static_cast<Material>(reinterpret_cast<uintptr_t>(dGeomGetData(other)) & 7);
+      q->hit->material =
+          static_cast<Material>(reinterpret_cast<uintptr_t>(dGeomGetData(other)) & 7);
       q->hit->owner = OwnerOf(other);
     }
   };
@@ -157,7 +161,8 @@ bool Engine::TouchAt(const Vec3& centre, double radius, uint32_t ignore, Touch& 
       q->touch->geom = other;
       q->touch->body = dGeomGetBody(other);
       q->touch->owner = owner;
-      q->touch->material = static_cast<Material>(reinterpret_cast<uintptr_t>(dGeomGetData(other)) & 7);
+      q->touch->material =
+          static_cast<Material>(reinterpret_cast<uintptr_t>(dGeomGetData(other)) & 7);
     }
   };
   dGeomID sphere = dCreateSphere(nullptr, radius);
@@ -252,7 +257,8 @@ class Dynamics3dEngine : public Engine {
     Slot& slot = slots_[s];
     slot = Slot{};
     slot.model = &model;
-    if (std::find(models_.begin(), models_.end(), &model) == models_.end()) models_.push_back(&model);
+    if (std::find(models_.begin(), models_.end(), &model) == models_.end())
+      models_.push_back(&model);
     if (!space.movable(s)) {
       AddStatic(s, model.fixed_material());
       return;
@@ -329,8 +335,9 @@ class Dynamics3dEngine : public Engine {
     const Space& space = sim().space();
     const Geometry& g = space.geometry(s);
     const Pose& pose = space.pose(s);
-    dGeomID geom = g.shape == ShapeKind::kBox ? dCreateBox(static_, g.size.x(), g.size.y(), g.size.z())
-                                              : dCreateCylinder(static_, g.radius, g.height());
+    dGeomID geom = g.shape == ShapeKind::kBox
+                       ? dCreateBox(static_, g.size.x(), g.size.y(), g.size.z())
+                       : dCreateCylinder(static_, g.radius, g.height());
     AddGeom(s, geom, material);
     const Vec3 c = pose.position + pose.orientation * Up(0.5 * g.height());
     dGeomSetPosition(geom, c.x(), c.y(), c.z());
@@ -349,7 +356,8 @@ class Dynamics3dEngine : public Engine {
       const Vec3 lo = space.arena_min(), hi = space.arena_max();
       dGeomID slab = dCreateBox(static_, hi.x() - lo.x() + 2, hi.y() - lo.y() + 2, 1.0);
       dGeomSetData(slab, Tag(kNone, kCeiling));
-      dGeomSetPosition(slab, 0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), space.ceiling()->z + 0.5);
+      dGeomSetPosition(slab, 0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()),
+                       space.ceiling()->z + 0.5);
     }
     const auto& ditches = space.floor().ditches();
     if (ditches.empty()) {
@@ -402,7 +410,8 @@ class Dynamics3dEngine : public Engine {
         const double lx = xs[i1 + 1] - xs[i], ly = ys[j1 + 1] - ys[j];
         dGeomID box = dCreateBox(static_, lx, ly, kThickness);
         dGeomSetData(box, Tag(kNone, kGround));
-        dGeomSetPosition(box, 0.5 * (xs[i] + xs[i1 + 1]), 0.5 * (ys[j] + ys[j1 + 1]), z - dd - 0.5 * kThickness);
+        dGeomSetPosition(box, 0.5 * (xs[i] + xs[i1 + 1]), 0.5 * (ys[j] + ys[j1 + 1]),
+                         z - dd - 0.5 * kThickness);
       }
     }
   }
@@ -424,7 +433,8 @@ class Dynamics3dEngine : public Engine {
     if (oa == ob && oa != kNone) return;  // parts of one entity
     if (ba && bb && dAreConnectedExcluding(ba, bb, dJointTypeContact)) return;
     // A held thing does not collide with what holds it.
-    if (oa != kNone && ob != kNone && (slots_[oa].held_by == ob || slots_[ob].held_by == oa)) return;
+    if (oa != kNone && ob != kNone && (slots_[oa].held_by == ob || slots_[ob].held_by == oa))
+      return;
     constexpr int kMax = 8;
     dContact contact[kMax];
     const int n = dCollide(a, b, kMax, &contact[0].geom, sizeof(dContact));
@@ -443,7 +453,8 @@ class Dynamics3dEngine : public Engine {
     dGeomID surface = nullptr;
     if (ma == kTread && mb != kTread) surface = a;
     if (mb == kTread && ma != kTread) surface = b;
-    if (surface) slots_[OwnerOf(surface)].model->ModifyContacts(*this, surface, surface == a, mu, contact, n);
+    if (surface)
+      slots_[OwnerOf(surface)].model->ModifyContacts(*this, surface, surface == a, mu, contact, n);
     for (int i = 0; i < n; ++i) {
       dJointID j = dJointCreateContact(world_, contacts_, &contact[i]);
       dJointAttach(j, ba, bb);
@@ -453,7 +464,8 @@ class Dynamics3dEngine : public Engine {
       if (oa != kNone) touched_[oa] = 1;
       if (ob != kNone) touched_[ob] = 1;
     }
-    if (ma == kCube && mb == kCube && ba && bb) touches_.emplace_back(std::min(oa, ob), std::max(oa, ob));
+    if (ma == kCube && mb == kCube && ba && bb)
+      touches_.emplace_back(std::min(oa, ob), std::max(oa, ob));
   }
 
   // -------------------------------------------------------------------------
@@ -477,13 +489,15 @@ class Dynamics3dEngine : public Engine {
       const Quat ql = BodyQuat(bl);
       const Vec3 d = ql.conjugate() * (BodyPos(bu) - BodyPos(bl));  // in the lower cube's frame
       const double rest = 0.5 * (space.geometry(lo).size.z() + space.geometry(up).size.z());
-      if (std::abs(d.z() - rest) > 0.01) continue;                        // not on its top
+      if (std::abs(d.z() - rest) > 0.01) continue;  // not on its top
       const Quat rel = ql.conjugate() * BodyQuat(bu);
       if ((rel * Vec3::UnitZ()).z() < std::cos(params_.cube_capture_angle)) continue;  // tilted
-      if (std::abs(d.x()) > params_.cube_capture || std::abs(d.y()) > params_.cube_capture) continue;
+      if (std::abs(d.x()) > params_.cube_capture || std::abs(d.y()) > params_.cube_capture)
+        continue;
       const Vec3 xr = rel * Vec3::UnitX();
       const double quarter = std::round(std::atan2(xr.y(), xr.x()) / (M_PI / 2)) * (M_PI / 2);
-      if (std::abs(WrapAngle(std::atan2(xr.y(), xr.x()) - quarter)) > params_.cube_capture_angle) continue;
+      if (std::abs(WrapAngle(std::atan2(xr.y(), xr.x()) - quarter)) > params_.cube_capture_angle)
+        continue;
       MakeBond(up, lo, quarter, rest);
     }
   }
@@ -555,39 +569,48 @@ class Dynamics3dEngine : public Engine {
   bool quickstep_ = true;
   int iterations_ = 20, substeps_ = 10;
 
-  std::vector<Dynamics3dModel*> models_;  // in the order their first entity came
-  std::vector<uint8_t> touched_;          // per space slot: a contact this tick
+  std::vector<Dynamics3dModel*> models_;                // in the order their first entity came
+  std::vector<uint8_t> touched_;                        // per space slot: a contact this tick
   std::vector<std::pair<uint32_t, uint32_t>> touches_;  // cube pairs in contact this sub-step
   std::vector<Bond> bonds_;
 };
 
 COLONY_REGISTER_ENGINE(
     Dynamics3dEngine, "dynamics3d",
-    "3D rigid-body dynamics (ODE): gravity, floors with ditches, the marXbot on motor-driven treels, its "
+    "3D rigid-body dynamics (ODE): gravity, floors with ditches, the marXbot on motor-driven "
+    "treels, its "
     "construction manipulator and magnet, self-aligning construction cubes",
     (std::vector<AttributeDoc>{
         {"gravity", "\"x,y,z\" (m/s^2)", "0,0,-9.81", "gravity"},
         {"stepper", "quickstep, worldstep", "quickstep",
-         "ODE's iterative solver (cost linear in the contacts) or its exact one (per island of touching "
+         "ODE's iterative solver (cost linear in the contacts) or its exact one (per island of "
+         "touching "
          "bodies, cost cubic in the island's size)"},
         {"iterations", "a whole number in [1, 1000]", "20", "quickstep iterations per sub-step"},
         {"substeps", "a whole number in [1, 1000]", "10", "physics sub-steps per tick"},
-        {"erp", "a number in [0, 1]", "0.2", "share of joint and contact error corrected per sub-step"},
-        {"cfm", "a number >= 0", "1e-05", "constraint force mixing (softness of joints and contacts)"},
+        {"erp", "a number in [0, 1]", "0.2",
+         "share of joint and contact error corrected per sub-step"},
+        {"cfm", "a number >= 0", "1e-05",
+         "constraint force mixing (softness of joints and contacts)"},
         {"ground_friction", "a number >= 0", "1", "friction coefficient of the floor and ditches"},
         {"treel_friction", "a number >= 0", "0.6", "friction coefficient of the treels (rubber)"},
-        {"body_friction", "a number >= 0", "0.3", "friction coefficient of robot bodies and the manipulator head"},
+        {"body_friction", "a number >= 0", "0.3",
+         "friction coefficient of robot bodies and the manipulator head"},
         {"cube_friction", "a number >= 0", "0.5", "friction coefficient of construction cubes"},
-        {"object_friction", "a number >= 0", "0.5", "friction coefficient of boxes, cylinders and walls"},
+        {"object_friction", "a number >= 0", "0.5",
+         "friction coefficient of boxes, cylinders and walls"},
         {"treel_max_torque", "a number > 0 (N m)", "0.22",
          "most torque a treel's motor gives: the treel pushes at most this / wheel radius"},
-        {"magnet_max_force", "a number > 0 (N)", "2", "force beyond which the magnet lets go of what it holds"},
-        {"magnet_reach", "a number >= 0 (m)", "0.01", "largest gap between magnet and cube side for a grip"},
+        {"magnet_max_force", "a number > 0 (N)", "2",
+         "force beyond which the magnet lets go of what it holds"},
+        {"magnet_reach", "a number >= 0 (m)", "0.01",
+         "largest gap between magnet and cube side for a grip"},
         {"cube_capture", "a number >= 0 (m)", "0.02",
          "largest horizontal offset at which a cube landing on another aligns with it (0: never)"},
         {"cube_capture_angle", "a number in [0, 0.785] (rad)", "0.35",
          "largest turn from the cube below at which a landing cube aligns with it"},
-        {"cube_bond_force", "a number > 0 (N)", "2", "force beyond which two stacked cubes come apart"},
+        {"cube_bond_force", "a number > 0 (N)", "2",
+         "force beyond which two stacked cubes come apart"},
     }));
 
 }  // namespace

@@ -85,7 +85,9 @@ class Dynamics3dModel : public PhysicsModel {
   virtual void Remove(Engine& engine, uint32_t s) { (void)engine, (void)s; }
   // `holder` (one of this model's entities) must let go of `held`, which is
   // leaving the engine.
-  virtual void Release(Engine& engine, uint32_t holder, uint32_t held) { (void)engine, (void)holder, (void)held; }
+  virtual void Release(Engine& engine, uint32_t holder, uint32_t held) {
+    (void)engine, (void)holder, (void)held;
+  }
   // Each tick: before the sub-steps (commands into motors, grips), before
   // each sub-step (motors that track a target), after each sub-step's
   // solve (joints that break), and after the tick (components written back;
@@ -98,8 +100,8 @@ class Dynamics3dModel : public PhysicsModel {
   // touches something else: contacts[0..n) have their friction mu and
   // softness set; the model adds the surface's motion. `surface_first`:
   // whether `surface` is the contacts' first geom.
-  virtual void ModifyContacts(Engine& engine, dGeomID surface, bool surface_first, double mu, dContact* contacts,
-                              int n) {
+  virtual void ModifyContacts(Engine& engine, dGeomID surface, bool surface_first, double mu,
+                              dContact* contacts, int n) {
     (void)engine, (void)surface, (void)surface_first, (void)mu, (void)contacts, (void)n;
   }
 };
@@ -145,7 +147,8 @@ class Engine : public PhysicsEngine {
   // The nearest geom (fixed or movable, not one of `ignore`'s) a ray from
   // `from` along the unit vector `direction` meets within `length`; false if
   // none. Builds the floor and ceiling first if the engine has not stepped.
-  bool CastRay(const Vec3& from, const Vec3& direction, double length, uint32_t ignore, RayHit& hit);
+  bool CastRay(const Vec3& from, const Vec3& direction, double length, uint32_t ignore,
+               RayHit& hit);
 
   // What a sphere touches: the geom with the lowest owner slot (kNone, the
   // floor and the ceiling, last) that overlaps the sphere of `radius` at
@@ -173,7 +176,8 @@ class Engine : public PhysicsEngine {
     dSpaceID space = nullptr;  // the space of its parts, if any
     std::vector<dGeomID> geoms;
     std::vector<dBodyID> parts;  // part bodies beside the main one
-    Vec3 com = Vec3::Zero();     // body origin (centre of mass) from the entity's origin, in its frame (m)
+    Vec3 com =
+        Vec3::Zero();  // body origin (centre of mass) from the entity's origin, in its frame (m)
     uint32_t held_by = kNone;
   };
 
@@ -182,9 +186,9 @@ class Engine : public PhysicsEngine {
   Params params_;
   dWorldID world_ = nullptr;
   dSpaceID space_ = nullptr, static_ = nullptr;
-  std::vector<Slot> slots_;        // per space slot
-  std::vector<uint32_t> cubes_;    // movable cubes, in slot order
-  std::vector<uint32_t> movables_; // movable entities, in slot order
+  std::vector<Slot> slots_;         // per space slot
+  std::vector<uint32_t> cubes_;     // movable cubes, in slot order
+  std::vector<uint32_t> movables_;  // movable entities, in slot order
 };
 
 }  // namespace dynamics3d

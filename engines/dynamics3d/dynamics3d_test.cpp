@@ -28,7 +28,9 @@ COLONY_REGISTER_CONTROLLER(Idle, "dyn3d_idle", "test: does nothing");
 
 const char* kIdle = "<dyn3d_idle id=\"idle\"/>";
 
-std::string Engine(const std::string& attributes = "") { return "<dynamics3d id=\"d3d\" " + attributes + "/>"; }
+std::string Engine(const std::string& attributes = "") {
+  return "<dynamics3d id=\"d3d\" " + attributes + "/>";
+}
 
 std::string Num(double v) {
   std::ostringstream s;
@@ -36,22 +38,27 @@ std::string Num(double v) {
   return s.str();
 }
 
-std::string Robot(const std::string& id, double x, double y, double yaw = 0, bool manipulator = false) {
-  return "<marxbot id=\"" + id + "\"" + (manipulator ? " manipulator=\"true\"" : "") + "><body position=\"" + Num(x) +
-         "," + Num(y) + ",0\" orientation=\"" + Num(yaw) + ",0,0\"/><controller config=\"idle\"/></marxbot>";
+std::string Robot(const std::string& id, double x, double y, double yaw = 0,
+                  bool manipulator = false) {
+  return "<marxbot id=\"" + id + "\"" + (manipulator ? " manipulator=\"true\"" : "") +
+         "><body position=\"" + Num(x) + "," + Num(y) + ",0\" orientation=\"" + Num(yaw) +
+         ",0,0\"/><controller config=\"idle\"/></marxbot>";
 }
 
 std::string Cube(const std::string& id, double x, double y, double z = 0, double yaw = 0) {
-  return "<cube id=\"" + id + "\"><body position=\"" + Num(x) + "," + Num(y) + "," + Num(z) + "\" orientation=\"" +
-         Num(yaw) + ",0,0\"/></cube>";
+  return "<cube id=\"" + id + "\"><body position=\"" + Num(x) + "," + Num(y) + "," + Num(z) +
+         "\" orientation=\"" + Num(yaw) + ",0,0\"/></cube>";
 }
 
-std::string Scene(const std::string& body, const std::string& engine = Engine(), const std::string& size = "3,2,1") {
+std::string Scene(const std::string& body, const std::string& engine = Engine(),
+                  const std::string& size = "3,2,1") {
   return testing::Experiment(body, kIdle, size, "", engine);
 }
 
 uint32_t SlotOf(Simulation& sim, const std::string& id) { return sim.space().Find(id).index; }
-const Pose& PoseOf(Simulation& sim, const std::string& id) { return sim.space().pose(SlotOf(sim, id)); }
+const Pose& PoseOf(Simulation& sim, const std::string& id) {
+  return sim.space().pose(SlotOf(sim, id));
+}
 Vec3 PositionOf(Simulation& sim, const std::string& id) { return PoseOf(sim, id).position; }
 // Angle between the body's up axis and the vertical (rad).
 double TiltOf(Simulation& sim, const std::string& id) {
@@ -145,12 +152,15 @@ TEST(Dynamics3d, RobotDrivesACircleOfTheCommandedRadius) {
 }
 
 TEST(Dynamics3d, TreelsSlipAgainstAWallAndAHeavyBoxButPushALightOne) {
-  auto sim = testing::LoadXml(Scene(
-      Robot("walled", -1, 0.6) + "<box id=\"wall\" size=\"0.1,0.4,0.3\"><body position=\"-0.8,0.6,0\"/></box>" +
-      Robot("heavy", -1, 0) + "<box id=\"lead\" size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"50\">"
-                              "<body position=\"-0.78,0,0\"/></box>" +
-      Robot("light", -1, -0.6) + "<box id=\"foam\" size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"0.3\">"
-                                 "<body position=\"-0.78,-0.6,0\"/></box>"));
+  auto sim = testing::LoadXml(
+      Scene(Robot("walled", -1, 0.6) +
+            "<box id=\"wall\" size=\"0.1,0.4,0.3\"><body position=\"-0.8,0.6,0\"/></box>" +
+            Robot("heavy", -1, 0) +
+            "<box id=\"lead\" size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"50\">"
+            "<body position=\"-0.78,0,0\"/></box>" +
+            Robot("light", -1, -0.6) +
+            "<box id=\"foam\" size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"0.3\">"
+            "<body position=\"-0.78,-0.6,0\"/></box>"));
   for (const char* r : {"walled", "heavy", "light"}) SetWheels(*sim, r, 0.2, 0.2);
   RunFor(*sim, 3);
   EXPECT_LT(PositionOf(*sim, "walled").x(), -0.8 - 0.05 - 0.08) << "stopped by the wall";
@@ -171,8 +181,8 @@ TEST(Dynamics3d, TreelsSlipAgainstAWallAndAHeavyBoxButPushALightOne) {
 // x = 0.3; the robot drives at it from x = 0 at 0.1 m/s.
 
 std::string DitchScene(const std::string& extra, bool manipulator = false, double width = 0.065) {
-  return Scene("<floor><ditch center=\"0.3,0\" size=\"" + Num(width) + ",1.6\" depth=\"0.06\"/></floor>" +
-               Robot("r", 0, 0, 0, manipulator) + extra);
+  return Scene("<floor><ditch center=\"0.3,0\" size=\"" + Num(width) +
+               ",1.6\" depth=\"0.06\"/></floor>" + Robot("r", 0, 0, 0, manipulator) + extra);
 }
 
 // Drives the robot at the ditch for 10 s, then checks for 3 s more that it
@@ -225,26 +235,30 @@ TEST(Dynamics3d, RobotCrossesTheDitchWhenTwoCubesSideBySideFillIt) {
   // The cubes start level with the floor over the ditch and drop into it.
   for (const double offset : {0.0, 0.02}) {
     for (const bool manipulator : {false, true}) {
-      SCOPED_TRACE("robot " + Num(offset) + " m off the bridge's middle, manipulator " + (manipulator ? "yes" : "no"));
-      auto sim = testing::LoadXml(Scene("<floor><ditch center=\"0.3,0\" size=\"0.065,1.6\" depth=\"0.06\"/></floor>" +
-                                        Robot("r", 0, offset, 0, manipulator) + Cube("c1", 0.3, 0.03) +
-                                        Cube("c2", 0.3, -0.03)));
+      SCOPED_TRACE("robot " + Num(offset) + " m off the bridge's middle, manipulator " +
+                   (manipulator ? "yes" : "no"));
+      auto sim = testing::LoadXml(Scene(
+          "<floor><ditch center=\"0.3,0\" size=\"0.065,1.6\" depth=\"0.06\"/></floor>" +
+          Robot("r", 0, offset, 0, manipulator) + Cube("c1", 0.3, 0.03) + Cube("c2", 0.3, -0.03)));
       RunFor(*sim, 1);
-      for (const char* c : {"c1", "c2"}) EXPECT_NEAR(PositionOf(*sim, c).z(), -0.06, 0.002) << c << " in the ditch";
+      for (const char* c : {"c1", "c2"})
+        EXPECT_NEAR(PositionOf(*sim, c).z(), -0.06, 0.002) << c << " in the ditch";
       SetWheels(*sim, "r", 0.1, 0.1);
       RunFor(*sim, 8);
       const Vec3 p = PositionOf(*sim, "r");
       EXPECT_GT(p.x(), 0.7) << "well beyond the ditch (far edge at 0.3325)";
       EXPECT_NEAR(p.z(), 0.0, 0.002);
       EXPECT_LT(TiltOf(*sim, "r"), 0.01) << "upright";
-      for (const char* c : {"c1", "c2"}) EXPECT_NEAR(PositionOf(*sim, c).z(), -0.06, 0.002) << c << " still in the ditch";
+      for (const char* c : {"c1", "c2"})
+        EXPECT_NEAR(PositionOf(*sim, c).z(), -0.06, 0.002) << c << " still in the ditch";
     }
   }
 }
 
 TEST(Dynamics3d, ACubeFallsIntoADitchAndFillsItFlushWithTheFloor) {
-  auto sim = testing::LoadXml(Scene("<floor><ditch center=\"0.3,0\" size=\"0.065,1.6\" depth=\"0.06\"/></floor>" +
-                                    Cube("c", 0.3, 0.5, 0.1)));
+  auto sim = testing::LoadXml(
+      Scene("<floor><ditch center=\"0.3,0\" size=\"0.065,1.6\" depth=\"0.06\"/></floor>" +
+            Cube("c", 0.3, 0.5, 0.1)));
   RunFor(*sim, 1.5);
   const Vec3 p = PositionOf(*sim, "c");
   EXPECT_NEAR(p.z() + 0.06, 0.0, 0.002) << "its top is level with the floor";
@@ -277,7 +291,8 @@ TEST(Dynamics3d, HeadFollowsItsTargetsAtItsSpeeds) {
   EXPECT_NEAR(m.elevation, 0.20, 1e-3);
   EXPECT_NEAR(m.rotation, -2.5, 0.01);
   EXPECT_LT(TiltOf(*sim, "r"), 0.01);
-  EXPECT_LT(PositionOf(*sim, "r").head<2>().norm(), 0.003) << "the head's motion barely moves the robot";
+  EXPECT_LT(PositionOf(*sim, "r").head<2>().norm(), 0.003)
+      << "the head's motion barely moves the robot";
 }
 
 // The manipulator sensor reads the head where the model put it (its anchor),
@@ -354,10 +369,10 @@ TEST(Dynamics3d, MagnetDoesNotHoldBeforeItsSwitchTimeHasPassed) {
 TEST(Dynamics3d, MagnetHoldsOnlyACubeSideItFacesWithinReach) {
   // A cube 2 cm beyond reach, one turned 45 degrees (the magnet meets its
   // corner), a box (not ferromagnetic): none is held.
-  for (const std::string& thing :
-       {Cube("c", kFace + 0.05, 0), Cube("c", kFace + 0.045, 0, 0, 45),
-        std::string("<box id=\"c\" size=\"0.06,0.06,0.06\" movable=\"true\" mass=\"0.04\"><body position=\"") +
-            Num(kFace + 0.033) + ",0,0\"/></box>"}) {
+  for (const std::string& thing : {Cube("c", kFace + 0.05, 0), Cube("c", kFace + 0.045, 0, 0, 45),
+                                   std::string("<box id=\"c\" size=\"0.06,0.06,0.06\" "
+                                               "movable=\"true\" mass=\"0.04\"><body position=\"") +
+                                       Num(kFace + 0.033) + ",0,0\"/></box>"}) {
     auto sim = testing::LoadXml(Scene(Robot("r", 0, 0, 0, true) + thing));
     ManipulatorState& m = Manipulator(*sim, "r");
     m.want_magnet = true;
@@ -410,8 +425,9 @@ struct Stack {
 // friction between two cubes (0.5 g) holds.
 Stack HeldStack(double dx, double dy, double yaw_degrees, const std::string& engine = Engine()) {
   const double ax = kFace + 0.033;
-  Stack s{testing::LoadXml(Scene(Robot("r", 0, 0, 0, true) + Cube("a", ax, 0) +
-                                 Cube("b", ax + dx, dy, 0.075, yaw_degrees), engine))};
+  Stack s{testing::LoadXml(Scene(
+      Robot("r", 0, 0, 0, true) + Cube("a", ax, 0) + Cube("b", ax + dx, dy, 0.075, yaw_degrees),
+      engine))};
   Manipulator(*s.sim, "r").want_magnet = true;
   RunFor(*s.sim, 1.2);
   return s;
@@ -489,9 +505,11 @@ TEST(Dynamics3d, CubeDroppedTooFarOffDoesNotAlign) {
 }
 
 TEST(Dynamics3d, ThreeCubesStackIntoATower) {
-  auto sim = testing::LoadXml(Scene(Cube("a", 0, 0) + Cube("b", 0.01, 0.005, 0.07, 8) + Cube("c", -0.01, 0.01, 0.14, -10)));
+  auto sim = testing::LoadXml(
+      Scene(Cube("a", 0, 0) + Cube("b", 0.01, 0.005, 0.07, 8) + Cube("c", -0.01, 0.01, 0.14, -10)));
   RunFor(*sim, 2);
-  for (const auto& [id, z] : std::vector<std::pair<std::string, double>>{{"a", 0}, {"b", 0.06}, {"c", 0.12}}) {
+  for (const auto& [id, z] :
+       std::vector<std::pair<std::string, double>>{{"a", 0}, {"b", 0.06}, {"c", 0.12}}) {
     const Vec3 p = PositionOf(*sim, id);
     EXPECT_NEAR(p.x(), 0, 1e-3) << id;
     EXPECT_NEAR(p.y(), 0, 1e-3) << id;
@@ -507,16 +525,19 @@ TEST(Dynamics3d, ObjectsFallAndRestOnTheFloorAndFixedOnesStayPut) {
   auto sim = testing::LoadXml(Scene(
       "<box id=\"b\" size=\"0.2,0.1,0.1\" movable=\"true\" mass=\"0.5\"><body position=\"0,0,0.3\" "
       "orientation=\"30,0,0\"/></box>"
-      "<cylinder id=\"c\" radius=\"0.05\" height=\"0.2\" movable=\"true\" mass=\"0.3\"><body position=\"0.5,0,0.1\"/>"
+      "<cylinder id=\"c\" radius=\"0.05\" height=\"0.2\" movable=\"true\" mass=\"0.3\"><body "
+      "position=\"0.5,0,0.1\"/>"
       "</cylinder>"
       "<cylinder id=\"f\" radius=\"0.1\" height=\"0.3\"><body position=\"-0.5,0,0.2\"/></cylinder>"
-      "<box id=\"shelf\" size=\"0.2,0.2,0.02\"><body position=\"-0.8,0.5,0.3\"/></box>" + Cube("q", -0.8, 0.5, 0.4)));
+      "<box id=\"shelf\" size=\"0.2,0.2,0.02\"><body position=\"-0.8,0.5,0.3\"/></box>" +
+      Cube("q", -0.8, 0.5, 0.4)));
   RunFor(*sim, 1.5);
   EXPECT_NEAR(PositionOf(*sim, "b").z(), 0.0, 0.002);
   EXPECT_NEAR(YawOf(PoseOf(*sim, "b").orientation), DegToRad(30), 0.01);
   EXPECT_NEAR(PositionOf(*sim, "c").z(), 0.0, 0.002);
   EXPECT_LT(TiltOf(*sim, "c"), 0.01) << "standing upright";
-  EXPECT_EQ(PositionOf(*sim, "f"), Vec3(-0.5, 0, 0.2)) << "a fixed cylinder floats where it was put";
+  EXPECT_EQ(PositionOf(*sim, "f"), Vec3(-0.5, 0, 0.2))
+      << "a fixed cylinder floats where it was put";
   EXPECT_NEAR(PositionOf(*sim, "q").z(), 0.32, 0.002) << "the cube landed on the fixed shelf";
   EXPECT_LT(sim->space().twist(SlotOf(*sim, "b")).linear.norm(), 1e-3);
 }
@@ -524,10 +545,11 @@ TEST(Dynamics3d, ObjectsFallAndRestOnTheFloorAndFixedOnesStayPut) {
 // The foot-bot's gripper in 3D: closing on a grounded hand-bot's docking
 // ring, it drags the hand-bot; letting go leaves it.
 TEST(Dynamics3d, AFootBotGripsAHandBotsRingAndDragsIt) {
-  auto sim = testing::LoadXml(Scene(Robot("f", -0.3, 0) +
-                                        "<handbot id=\"h\"><body position=\"-0.12,0,0\" orientation=\"180,0,0\"/>"
-                                        "<controller config=\"idle\"/></handbot>",
-                                    Engine("stepper=\"worldstep\""), "4,2,1"));
+  auto sim = testing::LoadXml(
+      Scene(Robot("f", -0.3, 0) +
+                "<handbot id=\"h\"><body position=\"-0.12,0,0\" orientation=\"180,0,0\"/>"
+                "<controller config=\"idle\"/></handbot>",
+            Engine("stepper=\"worldstep\""), "4,2,1"));
   GripperState& g = *sim->space().Get<GripperState>(SlotOf(*sim, "f"));
   RunFor(*sim, 0.5);
   g.want_grip = true;
@@ -540,7 +562,8 @@ TEST(Dynamics3d, AFootBotGripsAHandBotsRingAndDragsIt) {
   SetWheels(*sim, "f", 0, 0);
   RunFor(*sim, 0.5);
   EXPECT_LT(PositionOf(*sim, "h").x() - start.x(), -0.5) << "dragged backwards more than 0.5 m";
-  EXPECT_NEAR(PositionOf(*sim, "h").x() - PositionOf(*sim, "f").x(), start.x() + 0.3, 0.01) << "still at the jaws";
+  EXPECT_NEAR(PositionOf(*sim, "h").x() - PositionOf(*sim, "f").x(), start.x() + 0.3, 0.01)
+      << "still at the jaws";
   EXPECT_LT(TiltOf(*sim, "h"), 0.05) << "upright";
   g.want_grip = false;
   RunFor(*sim, 0.2);
@@ -559,9 +582,10 @@ TEST(Dynamics3d, AFootBotGripsAHandBotsRingAndDragsIt) {
 
 TEST(Dynamics3d, TheCeilingIsSolid) {
   // Gravity reversed: a box "falls" up against a ceiling 0.8 m above the floor.
-  auto sim = testing::LoadXml(Scene("<ceiling height=\"0.8\"/><box id=\"b\" size=\"0.2,0.1,0.1\" movable=\"true\" "
-                                    "mass=\"0.5\"><body position=\"0,0,0.3\"/></box>",
-                                    Engine("gravity=\"0,0,9.81\"")));
+  auto sim = testing::LoadXml(
+      Scene("<ceiling height=\"0.8\"/><box id=\"b\" size=\"0.2,0.1,0.1\" movable=\"true\" "
+            "mass=\"0.5\"><body position=\"0,0,0.3\"/></box>",
+            Engine("gravity=\"0,0,9.81\"")));
   RunFor(*sim, 1.5);
   EXPECT_NEAR(PositionOf(*sim, "b").z(), 0.7, 0.002) << "its top against the ceiling";
   EXPECT_LT(sim->space().twist(SlotOf(*sim, "b")).linear.norm(), 1e-3);
@@ -574,14 +598,18 @@ std::string BusyScene(const std::string& engines) {
   return testing::Experiment(
       "<floor><ditch center=\"0.5,0\" size=\"0.065,0.8\" depth=\"0.06\"/></floor><walls/>" +
           Robot("m", -0.3, 0.5, 0, true) + Cube("c1", -0.3 + kFace + 0.033, 0.5) +
-          Cube("c2", -0.3 + kFace + 0.035, 0.505, 0.07, 10) + Cube("c3", 0.5, 0.02) + Cube("c4", 0.5, -0.3, 0.01) +
-          "<box id=\"b\" size=\"0.1,0.1,0.1\" movable=\"true\" mass=\"0.2\"><body position=\"1,-0.6,0\"/></box>"
+          Cube("c2", -0.3 + kFace + 0.035, 0.505, 0.07, 10) + Cube("c3", 0.5, 0.02) +
+          Cube("c4", 0.5, -0.3, 0.01) +
+          "<box id=\"b\" size=\"0.1,0.1,0.1\" movable=\"true\" mass=\"0.2\"><body "
+          "position=\"1,-0.6,0\"/></box>"
           "<distribute><position method=\"uniform\" min=\"-1.3,-0.9,0\" max=\"1.3,0.9,0\"/>"
           "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
-          "<entity quantity=\"30\" max_trials=\"1000\"><marxbot id=\"mb\"><controller config=\"dc\"/></marxbot>"
+          "<entity quantity=\"30\" max_trials=\"1000\"><marxbot id=\"mb\"><controller "
+          "config=\"dc\"/></marxbot>"
           "</entity></distribute>",
       std::string(kIdle) +
-          "<diffusion id=\"dc\" library=\"diffusion\"><actuators><differential_steering/></actuators>"
+          "<diffusion id=\"dc\" "
+          "library=\"diffusion\"><actuators><differential_steering/></actuators>"
           "<sensors><proximity/></sensors><params velocity=\"0.2\"/></diffusion>",
       "3,2,1", "", engines);
 }
@@ -613,13 +641,14 @@ TEST(Dynamics3d, StateHashIsTheSameWith0_1And2Threads) {
 // <boundaries> over the rectangle [x0, x1] x [y0, y1].
 std::string Boundaries(double x0, double y0, double x1, double y1) {
   auto v = [](double x, double y) { return "<vertex point=\"" + Num(x) + "," + Num(y) + "\"/>"; };
-  return "<boundaries><top height=\"1\"/><bottom height=\"-0.5\"/><sides>" + v(x0, y0) + v(x1, y0) + v(x1, y1) +
-         v(x0, y1) + "</sides></boundaries>";
+  return "<boundaries><top height=\"1\"/><bottom height=\"-0.5\"/><sides>" + v(x0, y0) + v(x1, y0) +
+         v(x1, y1) + v(x0, y1) + "</sides></boundaries>";
 }
 
 std::string Halves(const std::string& attributes = "") {
-  return "<dynamics3d id=\"west\" " + attributes + ">" + Boundaries(-1.5, -1, 0, 1) + "</dynamics3d><dynamics3d id=\"east\" " +
-         attributes + ">" + Boundaries(0, -1, 1.5, 1) + "</dynamics3d>";
+  return "<dynamics3d id=\"west\" " + attributes + ">" + Boundaries(-1.5, -1, 0, 1) +
+         "</dynamics3d><dynamics3d id=\"east\" " + attributes + ">" + Boundaries(0, -1, 1.5, 1) +
+         "</dynamics3d>";
 }
 
 TEST(Dynamics3d, StateHashIsTheSameWith0_1And2ThreadsWithTwoEnginesSteppingInParallel) {
@@ -643,7 +672,8 @@ TEST(Dynamics3d, RobotsCrossBetweenTwoEnginesKeepingTheirMotion) {
     EXPECT_NE(sim->EngineOf(r)->id(), start);
     EXPECT_LT(xs.front() * xs.back(), 0.0) << "crossed x = 0";
     for (size_t t = 1; t < xs.size(); ++t) {
-      EXPECT_NEAR(std::abs(xs[t] - xs[t - 1]), 0.01, 3e-4) << "tick " << t << ": no jump at the boundary";
+      EXPECT_NEAR(std::abs(xs[t] - xs[t - 1]), 0.01, 3e-4)
+          << "tick " << t << ": no jump at the boundary";
     }
     EXPECT_NEAR(PositionOf(*sim, "r").y(), 0.0, 2e-3);
     EXPECT_NEAR(PositionOf(*sim, "r").z(), 0.0, 1e-3);
@@ -652,10 +682,11 @@ TEST(Dynamics3d, RobotsCrossBetweenTwoEnginesKeepingTheirMotion) {
 }
 
 TEST(Dynamics3d, MixingWithATwoDimensionalEngineIsRejectedAtLoadTime) {
-  for (const std::string& engines : {Halves().substr(0, Halves().find("<dynamics3d id=\"east\"")) +
-                                         "<kinematics2d id=\"east\">" + Boundaries(0, -1, 1.5, 1) + "</kinematics2d>",
-                                     "<dynamics2d id=\"west\">" + Boundaries(-1.5, -1, 0, 1) + "</dynamics2d>" +
-                                         Halves().substr(Halves().find("<dynamics3d id=\"east\""))}) {
+  for (const std::string& engines :
+       {Halves().substr(0, Halves().find("<dynamics3d id=\"east\"")) +
+            "<kinematics2d id=\"east\">" + Boundaries(0, -1, 1.5, 1) + "</kinematics2d>",
+        "<dynamics2d id=\"west\">" + Boundaries(-1.5, -1, 0, 1) + "</dynamics2d>" +
+            Halves().substr(Halves().find("<dynamics3d id=\"east\""))}) {
     const std::string m = testing::LoadError(Scene(Robot("r", -0.5, 0), engines));
     EXPECT_NE(m.find("<string>:1:"), std::string::npos) << m;
     EXPECT_NE(m.find("cannot share an experiment"), std::string::npos) << m;
@@ -681,7 +712,8 @@ TEST(Dynamics3d, BadParametersAreRejectedWithElementAndLine) {
   for (const auto& [bad, accepted] : cases) {
     const std::string m = testing::LoadError(testing::Experiment("", "", "3,2,1", "", Engine(bad)));
     const std::string attribute = bad.substr(0, bad.find('='));
-    EXPECT_NE(m.find("<string>:1: <dynamics3d id=\"d3d\"> attribute '" + attribute + "'"), std::string::npos)
+    EXPECT_NE(m.find("<string>:1: <dynamics3d id=\"d3d\"> attribute '" + attribute + "'"),
+              std::string::npos)
         << bad << ": " << m;
     EXPECT_NE(m.find(accepted), std::string::npos) << bad << ": " << m;
   }
@@ -691,7 +723,8 @@ TEST(Dynamics3d, RegisteredAttributesMatchTheReadme) {
   const auto* entry = Registry<PhysicsEngine>::Get().Find("dynamics3d");
   ASSERT_NE(entry, nullptr);
   EXPECT_EQ(testing::ReadmeAttributes("engines/dynamics3d"), entry->info.AttributeNames());
-  for (const char* model : {"dynamics3d:marxbot", "dynamics3d:box", "dynamics3d:cylinder", "dynamics3d:cube"}) {
+  for (const char* model :
+       {"dynamics3d:marxbot", "dynamics3d:box", "dynamics3d:cylinder", "dynamics3d:cube"}) {
     EXPECT_NE(Registry<PhysicsModel>::Get().Find(model), nullptr) << model;
   }
 }

@@ -12,8 +12,8 @@ constexpr double kMagnetAlignment = 0.866;
 
 }  // namespace
 
-void DriveTreadContacts(dGeomID wheel, bool wheel_first, double speed, double pull, double mu, double side_slip,
-                        dContact* contacts, int n) {
+void DriveTreadContacts(dGeomID wheel, bool wheel_first, double speed, double pull, double mu,
+                        double side_slip, dContact* contacts, int n) {
   const dReal* R = dBodyGetRotation(dGeomGetBody(wheel));
   const Vec3 axle(R[1], R[5], R[9]);
   const Vec3 hub = ToVec(dGeomGetPosition(wheel));
@@ -41,7 +41,8 @@ void DriveTreadContacts(dGeomID wheel, bool wheel_first, double speed, double pu
   }
 }
 
-void Magnet::Grab(Engine& engine, uint32_t owner, dBodyID body, double face_offset, double face_height) {
+void Magnet::Grab(Engine& engine, uint32_t owner, dBodyID body, double face_offset,
+                  double face_height) {
   if (joint_) return;
   const Space& space = engine.entities();
   const Quat q = BodyQuat(body);

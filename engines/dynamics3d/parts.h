@@ -17,8 +17,8 @@ namespace colony::dynamics3d {
 // treel's front and rear wheels slides when the robot turns would be
 // arbitrary (the robot would turn about its front or rear axle); this makes
 // it turn about its middle, as differential drive kinematics have it.
-void DriveTreadContacts(dGeomID wheel, bool wheel_first, double speed, double pull, double mu, double side_slip,
-                        dContact* contacts, int n);
+void DriveTreadContacts(dGeomID wheel, bool wheel_first, double speed, double pull, double mu,
+                        double side_slip, dContact* contacts, int n);
 
 // A magnet on the +x face of a body (the face's centre `face_offset` along
 // the body's x axis, `face_height` tall). Fully engaged, it holds the

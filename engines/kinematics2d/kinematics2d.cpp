@@ -13,12 +13,13 @@
 // interpenetrate. Objects (boxes, cylinders), movable or not, are fixed
 // obstacles in this engine: robots stop at them and do not push them
 // (use dynamics2d to push things).
+#include "engines/kinematics2d/kinematics2d.h"
+
 #include <algorithm>
 #include <atomic>
 #include <bit>
 #include <vector>
 
-#include "engines/kinematics2d/kinematics2d.h"
 #include "core/geometry2d.h"
 #include "core/simulation.h"
 
@@ -41,9 +42,12 @@ class Kinematics2dEngine : public PhysicsEngine {
  public:
   void AddEntity(EntityHandle entity, PhysicsModel& model) override {
     const auto* m = dynamic_cast<const Kinematics2dModel*>(&model);
-    if (!m) throw RuntimeFailure("the kinematics2d model of '" + sim().space().TypeLabel(sim().space().type(entity.index)) +
-                                 "' is not a Kinematics2dModel (engines/kinematics2d/kinematics2d.h)");
-    if (!m->driven() || !sim().space().drive(entity.index)) return;  // obstacles are read from the space
+    if (!m)
+      throw RuntimeFailure("the kinematics2d model of '" +
+                           sim().space().TypeLabel(sim().space().type(entity.index)) +
+                           "' is not a Kinematics2dModel (engines/kinematics2d/kinematics2d.h)");
+    if (!m->driven() || !sim().space().drive(entity.index))
+      return;  // obstacles are read from the space
     // Incremental (not Reindex()): loading 100,000 robots must stay linear.
     if (robot_index_.size() <= entity.index) robot_index_.resize(entity.index + 1, -1);
     robot_index_[entity.index] = static_cast<int32_t>(robots_.size());
@@ -89,7 +93,8 @@ class Kinematics2dEngine : public PhysicsEngine {
         const double yaw0 = h.YawOf(pose.orientation);
         const double mid = yaw0 + 0.5 * w * dt;
         // Chord of the arc driven at constant v and w.
-        const double chord = std::abs(w * dt) > 1e-12 ? v * dt * std::sin(0.5 * w * dt) / (0.5 * w * dt) : v * dt;
+        const double chord =
+            std::abs(w * dt) > 1e-12 ? v * dt * std::sin(0.5 * w * dt) / (0.5 * w * dt) : v * dt;
         candidate_[k] = pose.position.head<2>() + chord * h.Direction(mid);
         yaw_[i] = yaw0 + w * dt;
         local_max = std::max(local_max, std::abs(chord));
@@ -250,7 +255,8 @@ class Kinematics2dEngine : public PhysicsEngine {
     const Vec2& c = candidate_[k];
     const Vec3& lo = space.arena_min();
     const Vec3& hi = space.arena_max();
-    if (c.x() - r < lo.x() || c.x() + r > hi.x() || c.y() - r < lo.y() || c.y() + r > hi.y()) return true;
+    if (c.x() - r < lo.x() || c.x() + r > hi.x() || c.y() - r < lo.y() || c.y() + r > hi.y())
+      return true;
     const double z0 = self.bottom, z1 = self.top;
     near.clear();
     const double reach = r + margin;

@@ -82,8 +82,12 @@ std::string Robot(const std::string& id, const std::string& position, double yaw
 }
 
 uint32_t Slot(const Simulation& sim, const std::string& id) { return sim.space().Find(id).index; }
-const Pose& PoseOf(const Simulation& sim, const std::string& id) { return sim.space().pose(Slot(sim, id)); }
-double Yaw(const Simulation& sim, const std::string& id) { return YawOf(PoseOf(sim, id).orientation); }
+const Pose& PoseOf(const Simulation& sim, const std::string& id) {
+  return sim.space().pose(Slot(sim, id));
+}
+double Yaw(const Simulation& sim, const std::string& id) {
+  return YawOf(PoseOf(sim, id).orientation);
+}
 K2dDriver& Driver(Simulation& sim, const std::string& id) {
   auto* d = dynamic_cast<K2dDriver*>(sim.ControllerOf(sim.space().Find(id)));
   EXPECT_NE(d, nullptr);
@@ -127,7 +131,8 @@ TEST(Kinematics2d, FreeRobotDrivesAsItsWheelsSay) {
 TEST(Kinematics2d, RobotStopsAtAWallWithoutOverlappingAndKeepsTurning) {
   // 10 cm walls: the east wall's inner face is at x = 1.9. The robot drives
   // east at 0.3 m/s from x = 1.
-  auto sim = LoadXml(Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>" + Robot("r", "1,0.3,0"), kDriver));
+  auto sim = LoadXml(
+      Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>" + Robot("r", "1,0.3,0"), kDriver));
   Driver(*sim, "r").left = Driver(*sim, "r").right = 0.3;
   for (int t = 0; t < 60; ++t) {
     sim->Step();
@@ -190,7 +195,8 @@ TEST(Kinematics2d, RobotsDrivingHeadOnNeverOverlap) {
 }
 
 TEST(Kinematics2d, ARobotDrivingIntoAStandingOneStopsAndTheOtherStays) {
-  auto sim = LoadXml(Experiment(Robot("mover", "-0.5,0,0") + Robot("standing", "0,0,0", 0, "still"), kDriver));
+  auto sim = LoadXml(
+      Experiment(Robot("mover", "-0.5,0,0") + Robot("standing", "0,0,0", 0, "still"), kDriver));
   for (int t = 0; t < 60; ++t) {
     sim->Step();
     ASSERT_EQ(Overlap(*sim), "") << "tick " << t;
@@ -203,12 +209,13 @@ TEST(Kinematics2d, ARobotDrivingIntoAStandingOneStopsAndTheOtherStays) {
 TEST(Kinematics2d, MovableBoxIsNotPushed) {
   // kinematics2d treats every object as a fixed obstacle, movable or not:
   // use dynamics2d to push things.
-  auto sim = LoadXml(Experiment(
-      Robot("r", "-0.5,0,0") +
-          "<box id=\"b\" size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"0.5\"><body position=\"0,0,0\"/></box>"
-          "<cylinder id=\"c\" radius=\"0.1\" height=\"0.2\" movable=\"true\"><body position=\"0,1,0\"/></cylinder>" +
-          Robot("r2", "-0.5,1,0"),
-      kDriver));
+  auto sim = LoadXml(Experiment(Robot("r", "-0.5,0,0") +
+                                    "<box id=\"b\" size=\"0.2,0.2,0.2\" movable=\"true\" "
+                                    "mass=\"0.5\"><body position=\"0,0,0\"/></box>"
+                                    "<cylinder id=\"c\" radius=\"0.1\" height=\"0.2\" "
+                                    "movable=\"true\"><body position=\"0,1,0\"/></cylinder>" +
+                                    Robot("r2", "-0.5,1,0"),
+                                kDriver));
   for (int t = 0; t < 60; ++t) {
     sim->Step();
     ASSERT_EQ(Overlap(*sim), "") << "tick " << t;
@@ -224,9 +231,10 @@ TEST(Kinematics2d, MovableBoxIsNotPushed) {
 TEST(Kinematics2d, RotatedBoxesBlockAlongTheirTrueOutline) {
   // A 1 m x 0.1 m box turned 45 degrees; a robot driving north at x = 0.3
   // meets the diagonal at y = 0.3 (minus the half-width along the diagonal).
-  auto sim = LoadXml(Experiment(
-      Robot("r", "0.3,-0.8,0", 90) + "<box id=\"b\" size=\"1,0.1,0.3\"><body position=\"0,0,0\" orientation=\"45,0,0\"/></box>",
-      kDriver));
+  auto sim = LoadXml(Experiment(Robot("r", "0.3,-0.8,0", 90) +
+                                    "<box id=\"b\" size=\"1,0.1,0.3\"><body "
+                                    "position=\"0,0,0\" orientation=\"45,0,0\"/></box>",
+                                kDriver));
   for (int t = 0; t < 150; ++t) {
     sim->Step();
     ASSERT_EQ(Overlap(*sim), "") << "tick " << t;
@@ -240,20 +248,24 @@ TEST(Kinematics2d, RotatedBoxesBlockAlongTheirTrueOutline) {
 
 TEST(Kinematics2d, LowObjectsStillBlockButLightsDoNot) {
   // A 3 cm high box is below the proximity ring but not below the body.
-  auto sim = LoadXml(Experiment(
-      Robot("r", "-0.5,0,0") + "<box id=\"low\" size=\"0.1,0.6,0.03\"><body position=\"0,0,0\"/></box>" +
-          Robot("l", "-0.5,1,0") + "<light id=\"light\" position=\"0,1,0.05\"/>",
-      kDriver));
+  auto sim = LoadXml(
+      Experiment(Robot("r", "-0.5,0,0") +
+                     "<box id=\"low\" size=\"0.1,0.6,0.03\"><body position=\"0,0,0\"/></box>" +
+                     Robot("l", "-0.5,1,0") + "<light id=\"light\" position=\"0,1,0.05\"/>",
+                 kDriver));
   for (int t = 0; t < 30; ++t) sim->Step();
   EXPECT_LE(PoseOf(*sim, "r").position.x(), -0.05 - 0.085 + 1e-12);
-  EXPECT_NEAR(PoseOf(*sim, "l").position.x(), -0.5 + 0.3, 1e-9);  // drove straight through the light
+  EXPECT_NEAR(PoseOf(*sim, "l").position.x(), -0.5 + 0.3,
+              1e-9);  // drove straight through the light
 }
 
 TEST(Kinematics2d, RobotsAboveAnObstacleAreNotBlockedByIt) {
   // Footprints overlap only if heights do: a robot placed on a 20 cm shelf
   // level passes over a 10 cm box.
-  auto sim = LoadXml(Experiment(Robot("r", "-0.5,0,0.1") + "<box id=\"b\" size=\"0.2,0.6,0.1\"><body position=\"0,0,0\"/></box>",
-                                kDriver));
+  auto sim =
+      LoadXml(Experiment(Robot("r", "-0.5,0,0.1") +
+                             "<box id=\"b\" size=\"0.2,0.6,0.1\"><body position=\"0,0,0\"/></box>",
+                         kDriver));
   for (int t = 0; t < 30; ++t) sim->Step();
   EXPECT_NEAR(PoseOf(*sim, "r").position.x(), -0.5 + 0.3, 1e-9);
 }
@@ -268,15 +280,17 @@ TEST(Kinematics2d, RobotOutsideTheArenaCannotBePlaced) {
 }
 
 TEST(Kinematics2d, RobotsCannotBePlacedOnEachOtherOrInWalls) {
-  const std::string robots = LoadError(Experiment(Robot("a", "0,0,0") + Robot("b", "0.1,0,0"), kDriver));
+  const std::string robots =
+      LoadError(Experiment(Robot("a", "0,0,0") + Robot("b", "0.1,0,0"), kDriver));
   EXPECT_NE(robots.find("overlaps 'a'"), std::string::npos) << robots;
-  const std::string wall =
-      LoadError(Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>" + Robot("a", "1.85,0,0"), kDriver));
+  const std::string wall = LoadError(
+      Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>" + Robot("a", "1.85,0,0"), kDriver));
   EXPECT_NE(wall.find("overlaps 'wall_east'"), std::string::npos) << wall;
 }
 
 TEST(Kinematics2d, RemovedRobotNoLongerBlocks) {
-  auto sim = LoadXml(Experiment(Robot("mover", "-0.5,0,0") + Robot("standing", "0,0,0", 0, "still"), kDriver));
+  auto sim = LoadXml(
+      Experiment(Robot("mover", "-0.5,0,0") + Robot("standing", "0,0,0", 0, "still"), kDriver));
   for (int t = 0; t < 40; ++t) sim->Step();
   const double stopped = PoseOf(*sim, "mover").position.x();
   EXPECT_LT(stopped, -0.17 + 1e-12);
@@ -286,7 +300,8 @@ TEST(Kinematics2d, RemovedRobotNoLongerBlocks) {
   // engine still finds the removed robot and blocks the mover for one tick.
   sim->RemoveEntity(sim->space().Find("standing"));
   sim->Step();
-  EXPECT_NEAR(PoseOf(*sim, "mover").position.x(), stopped + 0.01, 1e-9) << "blocked by a removed robot";
+  EXPECT_NEAR(PoseOf(*sim, "mover").position.x(), stopped + 0.01, 1e-9)
+      << "blocked by a removed robot";
   EXPECT_FALSE(sim->space().in_contact(Slot(*sim, "mover")));
   for (int t = 0; t < 9; ++t) sim->Step();
   EXPECT_NEAR(PoseOf(*sim, "mover").position.x(), stopped + 0.1, 1e-9);
@@ -295,7 +310,8 @@ TEST(Kinematics2d, RemovedRobotNoLongerBlocks) {
 TEST(Kinematics2d, RobotRemovedByLoopFunctionsTimingNoLongerBlocks) {
   // The same, with the index refreshed as the step loop does after loop
   // functions remove entities: the mover drives on at once.
-  auto sim = LoadXml(Experiment(Robot("mover", "-0.5,0,0") + Robot("standing", "0,0,0", 0, "still"), kDriver));
+  auto sim = LoadXml(
+      Experiment(Robot("mover", "-0.5,0,0") + Robot("standing", "0,0,0", 0, "still"), kDriver));
   for (int t = 0; t < 40; ++t) sim->Step();
   const double stopped = PoseOf(*sim, "mover").position.x();
   sim->RemoveEntity(sim->space().Find("standing"));
@@ -306,12 +322,18 @@ TEST(Kinematics2d, RobotRemovedByLoopFunctionsTimingNoLongerBlocks) {
 
 std::string DenseScene(int quantity, const std::string& arena_size, const std::string& layout) {
   const std::string controllers =
-      "<k2d_wander id=\"w\"><sensors><proximity/></sensors><actuators><differential_steering/></actuators></k2d_wander>";
+      "<k2d_wander "
+      "id=\"w\"><sensors><proximity/></sensors><actuators><differential_steering/></actuators></"
+      "k2d_wander>";
   const std::string arena =
       "<walls thickness=\"0.1\" height=\"0.5\"/>"
-      "<distribute><position method=\"grid\" center=\"0,0,0\" distances=\"0.19,0.19,0\" layout=\"" + layout + "\"/>"
+      "<distribute><position method=\"grid\" center=\"0,0,0\" distances=\"0.19,0.19,0\" layout=\"" +
+      layout +
+      "\"/>"
       "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
-      "<entity quantity=\"" + std::to_string(quantity) + "\"><marxbot id=\"m\"><controller config=\"w\"/></marxbot></entity>"
+      "<entity quantity=\"" +
+      std::to_string(quantity) +
+      "\"><marxbot id=\"m\"><controller config=\"w\"/></marxbot></entity>"
       "</distribute>";
   return Experiment(arena, controllers, arena_size);
 }
@@ -357,14 +379,16 @@ TEST(Kinematics2d, DenseSceneActuallyMoves) {
   // Guards the determinism tests against a scene where nothing happens.
   auto sim = LoadXml(DenseScene(50, "1.8,1.8,1", "8,7,1"));
   std::vector<Vec3> start;
-  for (uint32_t i = 0; i < sim->space().slots(); ++i) start.push_back(sim->space().pose(i).position);
+  for (uint32_t i = 0; i < sim->space().slots(); ++i)
+    start.push_back(sim->space().pose(i).position);
   int blocked_ticks = 0;
   for (int t = 0; t < 100; ++t) {
     sim->Step();
     for (uint32_t i = 0; i < sim->space().slots(); ++i) blocked_ticks += sim->space().in_contact(i);
   }
   int moved = 0;
-  for (uint32_t i = 0; i < sim->space().slots(); ++i) moved += (sim->space().pose(i).position - start[i]).norm() > 0.05;
+  for (uint32_t i = 0; i < sim->space().slots(); ++i)
+    moved += (sim->space().pose(i).position - start[i]).norm() > 0.05;
   EXPECT_GT(moved, 25);
   EXPECT_GT(blocked_ticks, 50);  // collisions were resolved, not avoided
 }

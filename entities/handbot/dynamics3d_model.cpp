@@ -5,16 +5,14 @@
 // every hinge driven by a motor that gives the torque a DC motor gives at
 // the joint's speed (handbot_arms_state.h); claws that, closing on
 // something in front of the gripper's tip, hold it with a fixed joint that
-// lets go when pulled harder than the claws hold (4 kg); and the rope: a unilateral distance constraint between the magnet, held
-// to the ceiling, and the launcher's top. The rope holds the robot no
-// farther from the magnet than the rope let out, never pushes it, and lets
-// it swing and turn freely about the magnet. Each sub-step the constraint
-// is an ODE contact joint at the launcher's top, its normal towards the
-// magnet, its depth how far the robot is beyond the rope let out; ODE's
-// solver keeps the force >= 0. The motor coils the rope in (the robot
-// climbs) while the rope pulls less than its force, and stalls otherwise.
-// The traction is the constraint's force, averaged over the tick's
-// sub-steps.
+// lets go when pulled harder than the claws hold (4 kg); and the rope: a unilateral distance
+// constraint between the magnet, held to the ceiling, and the launcher's top. The rope holds the
+// robot no farther from the magnet than the rope let out, never pushes it, and lets it swing and
+// turn freely about the magnet. Each sub-step the constraint is an ODE contact joint at the
+// launcher's top, its normal towards the magnet, its depth how far the robot is beyond the rope let
+// out; ODE's solver keeps the force >= 0. The motor coils the rope in (the robot climbs) while the
+// rope pulls less than its force, and stalls otherwise. The traction is the constraint's force,
+// averaged over the tick's sub-steps.
 //
 // Seed 003 (5.2.2) modelled the rope with a ball joint at the anchor and a
 // slider joint along the rope. Built that way on ODE's iterative solver (a
@@ -31,8 +29,8 @@
 // the launch was asked for.
 #include <algorithm>
 #include <array>
-#include <memory>
 #include <cmath>
+#include <memory>
 #include <string_view>
 #include <vector>
 
@@ -49,8 +47,10 @@ namespace {
 
 using namespace dynamics3d;
 
-constexpr double kHullComHeight = 0.10;  // m, centre of mass above the base (battery low in the hull)
-constexpr double kShortestRope = 0.02;   // m, the rope fully coiled in with the robot against the ceiling
+constexpr double kHullComHeight =
+    0.10;  // m, centre of mass above the base (battery low in the hull)
+constexpr double kShortestRope =
+    0.02;  // m, the rope fully coiled in with the robot against the ceiling
 using handbot::kPartsMass;
 // The claws stop on something held at this aperture (rad): a board or a
 // book about 2 cm thick between 3 cm claws.
@@ -80,9 +80,12 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     const dynamics3d::Params& params = engine.params();
     if (params.quickstep && params.iterations < kQuickstepIterations && !warned_) {
       warned_ = true;
-      LogWarning("dynamics3d '" + engine.id() + "': the hand-bot's jointed head, arms and grippers need stepper=\"worldstep\" "
-                 "or at least " + std::to_string(kQuickstepIterations) + " quickstep iterations (it has " +
-                 std::to_string(params.iterations) + "): with fewer its arms jitter and it creeps on the floor");
+      LogWarning("dynamics3d '" + engine.id() +
+                 "': the hand-bot's jointed head, arms and grippers need stepper=\"worldstep\" "
+                 "or at least " +
+                 std::to_string(kQuickstepIterations) + " quickstep iterations (it has " +
+                 std::to_string(params.iterations) +
+                 "): with fewer its arms jitter and it creeps on the floor");
     }
 
     const Vec3 com = HullCom(space.mass(s));
@@ -95,7 +98,8 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     dGeomID body = engine.AddGeom(s, dCreateCylinder(parts, kHullRadius, kHullHeight), kBody);
     dGeomSetBody(body, hull);
     dGeomSetOffsetPosition(body, -com.x(), 0, 0.5 * kHullHeight - com.z());
-    dGeomID tube = engine.AddGeom(s, dCreateCylinder(parts, kLauncherRadius, kLauncherHeight), kBody);
+    dGeomID tube =
+        engine.AddGeom(s, dCreateCylinder(parts, kLauncherRadius, kLauncherHeight), kBody);
     dGeomSetBody(tube, hull);
     dGeomSetOffsetPosition(tube, -com.x(), 0, kHullHeight + 0.5 * kLauncherHeight - com.z());
     AddArms(engine, s, r, hull, parts);
@@ -296,13 +300,13 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
   struct Robot {
     Vec3 com = Vec3::Zero();  // the hull body's origin in the robot's frame
     // Rope.
-    bool attached = false;  // the magnet holds to the ceiling
-    double paid_out = 0;    // m of rope let out
-    double tension = 0;     // N, in the last sub-step
-    double tension_sum = 0; // over this tick's sub-steps
+    bool attached = false;   // the magnet holds to the ceiling
+    double paid_out = 0;     // m of rope let out
+    double tension = 0;      // N, in the last sub-step
+    double tension_sum = 0;  // over this tick's sub-steps
     int substeps = 0;
     int substeps_total = 0;
-    bool stalled = false;   // during this tick
+    bool stalled = false;  // during this tick
     Vec3 normal = Vec3::UnitZ();
     dJointID rope_joint = nullptr;  // this sub-step's rope constraint, if taut
     dJointFeedback rope_feedback{};
@@ -312,12 +316,15 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     dJointID grasp[2] = {};
     dJointFeedback grasp_feedback[2] = {};
     uint32_t held[2] = {HandbotArmsState::kNothing, HandbotArmsState::kNothing};
-    bool slipped[2] = {false, false};  // a grasped thing slipped out; the claws close on nothing until reopened
-    std::array<Joint*, 5> joints() { return {&head_joint, &arm_joint[0], &arm_joint[1], &wrist_joint[0], &wrist_joint[1]}; }
+    bool slipped[2] = {
+        false, false};  // a grasped thing slipped out; the claws close on nothing until reopened
+    std::array<Joint*, 5> joints() {
+      return {&head_joint, &arm_joint[0], &arm_joint[1], &wrist_joint[0], &wrist_joint[1]};
+    }
   };
 
-  static dBodyID Part(Engine& engine, uint32_t s, dSpaceID parts, const Vec3& centre, const Quat& q, const Vec3& box,
-                      double mass, const Twist& twist, const Vec3& origin) {
+  static dBodyID Part(Engine& engine, uint32_t s, dSpaceID parts, const Vec3& centre, const Quat& q,
+                      const Vec3& box, double mass, const Twist& twist, const Vec3& origin) {
     dBodyID b = dBodyCreate(engine.world());
     engine.AddPartBody(s, b);
     PlaceBody(b, centre, q);
@@ -326,15 +333,16 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     // Inertia of a 10 cm cube of the part's mass, at least: ODE's iterative
     // solver copes badly with thin light bodies chained by motorised joints
     // (with their own inertia the arms flailed and the robot fell over).
-    dMassSetBoxTotal(&m, mass, std::max(box.x(), 0.1), std::max(box.y(), 0.1), std::max(box.z(), 0.1));
+    dMassSetBoxTotal(&m, mass, std::max(box.x(), 0.1), std::max(box.y(), 0.1),
+                     std::max(box.z(), 0.1));
     dBodySetMass(b, &m);
     dGeomID g = engine.AddGeom(s, dCreateBox(parts, box.x(), box.y(), box.z()), kBody);
     dGeomSetBody(g, b);
     return b;
   }
 
-  static void MakeHinge(Engine& engine, Joint& j, dBodyID moving, dBodyID base, const Vec3& anchor, const Vec3& axis,
-                        double origin, double sign, const HandbotJoint& state) {
+  static void MakeHinge(Engine& engine, Joint& j, dBodyID moving, dBodyID base, const Vec3& anchor,
+                        const Vec3& axis, double origin, double sign, const HandbotJoint& state) {
     j.hinge = dJointCreateHinge(engine.world(), nullptr);
     dJointAttach(j.hinge, moving, base);
     dJointSetHingeAnchor(j.hinge, anchor.x(), anchor.y(), anchor.z());
@@ -363,9 +371,10 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     const Quat& q = pose.orientation;
     const Vec3 head_centre = pose.position + q * Vec3(kHeadX, 0, kHeadZ);
     const Quat qh = q * RollBy(arms.head.position);
-    r.head = Part(engine, s, parts, head_centre, qh, Vec3(kHeadDepth, kHeadWidth, kHeadHeight), kHeadMass, twist,
-                  pose.position);
-    MakeHinge(engine, r.head_joint, r.head, hull, head_centre, q * Vec3::UnitX(), arms.head.position, 1, arms.head);
+    r.head = Part(engine, s, parts, head_centre, qh, Vec3(kHeadDepth, kHeadWidth, kHeadHeight),
+                  kHeadMass, twist, pose.position);
+    MakeHinge(engine, r.head_joint, r.head, hull, head_centre, q * Vec3::UnitX(),
+              arms.head.position, 1, arms.head);
     for (int k = 0; k < 2; ++k) {
       const double side = k == HandbotArmsState::kLeft ? 1.0 : -1.0;
       const double theta = arms.arm[k].position;
@@ -374,15 +383,19 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
       const Vec3 along(std::sin(theta), side * std::cos(theta), 0);
       const Quat qa = qh * FromYaw(std::atan2(along.y(), along.x()));
       const Vec3 d = qh * along;
-      r.arm[k] = Part(engine, s, parts, shoulder + 0.5 * kArmLength * d, qa,
-                      Vec3(kArmLength, kArmThickness, kArmThickness), kArmMass, twist, pose.position);
+      r.arm[k] =
+          Part(engine, s, parts, shoulder + 0.5 * kArmLength * d, qa,
+               Vec3(kArmLength, kArmThickness, kArmThickness), kArmMass, twist, pose.position);
       // Extending turns the left arm clockwise about the head's z, the right one anticlockwise.
-      MakeHinge(engine, r.arm_joint[k], r.arm[k], r.head, shoulder, qh * Vec3::UnitZ(), theta, -side, arms.arm[k]);
+      MakeHinge(engine, r.arm_joint[k], r.arm[k], r.head, shoulder, qh * Vec3::UnitZ(), theta,
+                -side, arms.arm[k]);
       const Vec3 tip = shoulder + kArmLength * d;
       const Quat qg = qa * RollBy(arms.wrist[k].position);
       r.gripper[k] = Part(engine, s, parts, tip + 0.5 * kGripperLength * d, qg,
-                          Vec3(kGripperLength, kGripperWidth, kGripperWidth), kGripperMass, twist, pose.position);
-      MakeHinge(engine, r.wrist_joint[k], r.gripper[k], r.arm[k], tip, d, arms.wrist[k].position, 1, arms.wrist[k]);
+                          Vec3(kGripperLength, kGripperWidth, kGripperWidth), kGripperMass, twist,
+                          pose.position);
+      MakeHinge(engine, r.wrist_joint[k], r.gripper[k], r.arm[k], tip, d, arms.wrist[k].position, 1,
+                arms.wrist[k]);
     }
   }
 
@@ -396,7 +409,8 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     if (fans.hold) {
       const double yaw = YawOf(q);
       const double rate = ToVec(dBodyGetAngularVel(hull)).dot(axis);
-      torque = -handbot::kFanHoldGain * WrapAngle(yaw - fans.heading) - handbot::kFanHoldDamping * rate;
+      torque =
+          -handbot::kFanHoldGain * WrapAngle(yaw - fans.heading) - handbot::kFanHoldDamping * rate;
     }
     torque = std::clamp(torque, -fans.max_torque, fans.max_torque);
     fans.applied = torque;
@@ -420,10 +434,12 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     state.position = state.limited() ? j.Angle() : WrapAngle(j.Angle());
     state.velocity = j.Rate();
     state.torque = j.torque_sum / substeps;
-    const double error = state.limited() ? std::clamp(state.target, state.min, state.max) - state.position
-                                         : WrapAngle(state.target - state.position);
+    const double error = state.limited()
+                             ? std::clamp(state.target, state.min, state.max) - state.position
+                             : WrapAngle(state.target - state.position);
     // Stalled: far from the target, barely moving, giving nearly its stall torque.
-    state.stalled = std::abs(error) > 0.01 && std::abs(state.velocity) < 0.05 * state.motor.no_load_speed &&
+    state.stalled = std::abs(error) > 0.01 &&
+                    std::abs(state.velocity) < 0.05 * state.motor.no_load_speed &&
                     std::abs(state.torque) > 0.9 * state.motor.stall_torque;
   }
 
@@ -432,16 +448,19 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
   // beyond the holding limit), opening they let go.
   void MoveClaws(Engine& engine, uint32_t s, Robot& r, HandbotArmsState& arms, int k, double dt) {
     HandbotArmsState::Claws& c = arms.claws[k];
-    const double target = std::clamp(std::isfinite(c.target) ? c.target : c.aperture, 0.0, M_PI / 2);
+    const double target =
+        std::clamp(std::isfinite(c.target) ? c.target : c.aperture, 0.0, M_PI / 2);
     if (r.grasp[k] && target > kGraspAperture + 1e-9) LetGo(engine, r, k);
     if (target > kGraspAperture + 1e-9) r.slipped[k] = false;
     const double step = c.speed * dt;
     double next = c.aperture + std::clamp(target - c.aperture, -step, step);
     if (r.grasp[k]) next = std::max(next, kGraspAperture);
-    if (!r.grasp[k] && !r.slipped[k] && next < kGraspAperture && c.aperture >= kGraspAperture - 1e-9) {
+    if (!r.grasp[k] && !r.slipped[k] && next < kGraspAperture &&
+        c.aperture >= kGraspAperture - 1e-9) {
       // The claws reach an object's thickness: is there one between them?
       const Quat q = BodyQuat(r.gripper[k]);
-      const Vec3 centre = BodyPos(r.gripper[k]) + q * Vec3(0.5 * handbot::kGripperLength + 0.5 * handbot::kClawReach, 0, 0);
+      const Vec3 centre = BodyPos(r.gripper[k]) +
+                          q * Vec3(0.5 * handbot::kGripperLength + 0.5 * handbot::kClawReach, 0, 0);
       Engine::Touch touch;
       if (engine.TouchAt(centre, 0.5 * handbot::kClawReach, s, touch)) {
         r.grasp[k] = dJointCreateFixed(engine.world(), nullptr);
@@ -461,7 +480,8 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     dJointDestroy(r.grasp[k]);
     r.grasp[k] = nullptr;
     const uint32_t held = r.held[k];
-    if (held != HandbotArmsState::kFixedThing && engine.BodyOf(held) && engine.HolderOf(held) != kNone) {
+    if (held != HandbotArmsState::kFixedThing && engine.BodyOf(held) &&
+        engine.HolderOf(held) != kNone) {
       engine.SetHolder(held, kNone);
     }
     r.held[k] = HandbotArmsState::kNothing;
@@ -489,8 +509,9 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     const Vec3 up = BodyQuat(engine.BodyOf(s)) * Vec3::UnitZ();
     Engine::RayHit hit;
     const Space& space = engine.entities();
-    const bool holds = engine.CastRay(from, up, rope.max_length, s, hit) && hit.material == kCeiling &&
-                       space.ceiling() && space.ceiling()->ferromagnetic;
+    const bool holds = engine.CastRay(from, up, rope.max_length, s, hit) &&
+                       hit.material == kCeiling && space.ceiling() &&
+                       space.ceiling()->ferromagnetic;
     if (!holds) {
       rope.status = RopeState::Status::kFailed;
       return;
@@ -502,16 +523,17 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
   }
 
   bool warned_ = false;
-  dJointGroupID ropes_ = nullptr;              // this sub-step's rope constraints
-  std::vector<std::unique_ptr<Robot>> robots_; // per space slot
-  std::vector<uint32_t> slots_;                // this model's robots, in slot order
+  dJointGroupID ropes_ = nullptr;               // this sub-step's rope constraints
+  std::vector<std::unique_ptr<Robot>> robots_;  // per space slot
+  std::vector<uint32_t> slots_;                 // this model's robots, in slot order
 };
 
-COLONY_REGISTER_PHYSICS_MODEL(HandbotDynamics3dModel, "dynamics3d:handbot",
-                              "hull on the floor; the rope: a unilateral distance constraint from the ceiling magnet to the "
-                              "launcher, coiled in by a force-limited motor; head, arms and grippers on motorised "
-                              "hinges (DC motor torque-speed lines), claws that grasp with a breakable joint",
-                              (std::vector<std::string>{"rope", "handbot_arms", "handbot_fans"}));
+COLONY_REGISTER_PHYSICS_MODEL(
+    HandbotDynamics3dModel, "dynamics3d:handbot",
+    "hull on the floor; the rope: a unilateral distance constraint from the ceiling magnet to the "
+    "launcher, coiled in by a force-limited motor; head, arms and grippers on motorised "
+    "hinges (DC motor torque-speed lines), claws that grasp with a breakable joint",
+    (std::vector<std::string>{"rope", "handbot_arms", "handbot_fans"}));
 
 }  // namespace
 }  // namespace colony

@@ -13,8 +13,8 @@ class HandbotType : public EntityType {
  public:
   HandbotType() {
     using namespace handbot;
-    mounts_.rings["proximity"] = {kProximityCount, kHullRadius, kProximityElevation, M_PI / kProximityCount,
-                                  kProximityRange};
+    mounts_.rings["proximity"] = {kProximityCount, kHullRadius, kProximityElevation,
+                                  M_PI / kProximityCount, kProximityRange};
     mounts_.rings["leds"] = {kRingLedCount, kLedRingRadius, kLedRingElevation, 0.0, 0.0};
   }
 
@@ -30,8 +30,10 @@ class HandbotType : public EntityType {
     init.mass = node.GetDouble("mass", kMass, Range::Positive());
     if (init.mass <= kPartsMass) {
       node.Error("mass", node.GetString("mass", ""),
-                 "a hand-bot of " + FormatNumber(init.mass) + " kg is no heavier than its head, arms and grippers (" +
-                     FormatNumber(kPartsMass) + " kg); accepted: a number > " + FormatNumber(kPartsMass) + " (kg)");
+                 "a hand-bot of " + FormatNumber(init.mass) +
+                     " kg is no heavier than its head, arms and grippers (" +
+                     FormatNumber(kPartsMass) + " kg); accepted: a number > " +
+                     FormatNumber(kPartsMass) + " (kg)");
     }
     RopeState& rope = init.components.Add<RopeState>();
     rope.max_length = node.GetDouble("rope_length", kRopeMaxLength, Range::Positive());
@@ -51,7 +53,8 @@ class HandbotType : public EntityType {
     }
     arms.grasp_force = kGraspForce;
     arms.holding_limit = node.GetDouble("holding_limit", kHoldingLimit, Range::Positive());
-    init.components.Add<HandbotFansState>().max_torque = node.GetDouble("fan_torque", kFanTorque, Range::Positive());
+    init.components.Add<HandbotFansState>().max_torque =
+        node.GetDouble("fan_torque", kFanTorque, Range::Positive());
   }
   bool is_robot() const override { return true; }
   const DeviceMounts& mounts() const override { return mounts_; }
@@ -62,16 +65,22 @@ class HandbotType : public EntityType {
 
 COLONY_REGISTER_ENTITY(
     HandbotType, "handbot",
-    "the hand-bot: a climbing robot that cannot drive; hull with proximity ring and 12 RGB LEDs on its "
-    "docking ring, a rope launcher that fires a magnet up to a ferromagnetic ceiling and climbs the rope, a "
-    "head turning two arms with a gripper each (needs dynamics3d); takes <body> and <controller config>",
+    "the hand-bot: a climbing robot that cannot drive; hull with proximity ring and 12 RGB LEDs on "
+    "its "
+    "docking ring, a rope launcher that fires a magnet up to a ferromagnetic ceiling and climbs "
+    "the rope, a "
+    "head turning two arms with a gripper each (needs dynamics3d); takes <body> and <controller "
+    "config>",
     (std::vector<AttributeDoc>{
         {"color", kColorAccepted, "200,200,200", "hull colour"},
         {"mass", "a number > 0.8 (kg)", "2", "the whole robot's mass"},
         {"rope_length", "a number > 0 (m)", "2.7", "how far above the launcher the magnet reaches"},
-        {"climb_speed", "a number > 0 (m/s)", "0.1", "fastest the rope motor coils the rope in or lets it out"},
-        {"rope_force", "a number > 0 (N)", "50", "most the rope motor pulls (climbing stalls beyond it)"},
-        {"holding_limit", "a number > 0 (N)", "39.24", "pull beyond which a grasped thing slips out of a gripper"},
+        {"climb_speed", "a number > 0 (m/s)", "0.1",
+         "fastest the rope motor coils the rope in or lets it out"},
+        {"rope_force", "a number > 0 (N)", "50",
+         "most the rope motor pulls (climbing stalls beyond it)"},
+        {"holding_limit", "a number > 0 (N)", "39.24",
+         "pull beyond which a grasped thing slips out of a gripper"},
         {"fan_torque", "a number > 0 (N m)", "0.05", "most yaw torque the two fans give together"},
     }),
     (std::vector<std::string>{"hand-bot"}));

@@ -2,6 +2,8 @@
 // dynamics3d: the head turns at its speed; an arm pushing a board it cannot
 // move stalls and reads about its stall torque; a gripper closing on a book
 // holds it as the robot climbs, and a 6 kg weight slips out of it.
+#include "entities/handbot/handbot.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +15,6 @@
 #include "actuators/handbot_head/handbot_head.h"
 #include "actuators/rope_launcher/rope_launcher.h"
 #include "core/registry.h"
-#include "entities/handbot/handbot.h"
 #include "sensors/handbot_arms/handbot_arms.h"
 #include "sensors/handbot_grippers/handbot_grippers.h"
 #include "sensors/handbot_head/handbot_head.h"
@@ -49,17 +50,25 @@ class HandbotProbe : public Controller {
   const HandbotArmsSensor* arms_sensor = nullptr;
   const HandbotGrippersSensor* grippers_sensor = nullptr;
 };
-COLONY_REGISTER_CONTROLLER(HandbotProbe, "handbot_probe", "test: the hand-bot's devices, commanded by the test");
+COLONY_REGISTER_CONTROLLER(HandbotProbe, "handbot_probe",
+                           "test: the hand-bot's devices, commanded by the test");
 
 constexpr int kLeft = HandbotArmsActuator::kLeft;
 
 std::string Scene(const std::string& arena, const std::string& handbot_attributes = "") {
-  return "<colony><framework><experiment length=\"100\" ticks_per_second=\"10\" random_seed=\"3\"/></framework>"
-         "<controllers><handbot_probe id=\"hp\"><actuators><handbot_head/><handbot_arms/><handbot_grippers/>"
-         "<rope_launcher/><handbot_fans/></actuators><sensors><handbot_head/><handbot_arms/><handbot_grippers/>"
-         "</sensors></handbot_probe></controllers><arena size=\"3,3,3\" center=\"0,0,1.5\"><ceiling height=\"2.5\"/>"
-         "<handbot id=\"h\" " + handbot_attributes + "><body position=\"0,0,0\"/><controller config=\"hp\"/></handbot>" +
-         arena + "</arena><physics_engines><dynamics3d id=\"d3d\" stepper=\"worldstep\"/></physics_engines></colony>";
+  return "<colony><framework><experiment length=\"100\" ticks_per_second=\"10\" "
+         "random_seed=\"3\"/></framework>"
+         "<controllers><handbot_probe "
+         "id=\"hp\"><actuators><handbot_head/><handbot_arms/><handbot_grippers/>"
+         "<rope_launcher/><handbot_fans/></actuators><sensors><handbot_head/><handbot_arms/"
+         "><handbot_grippers/>"
+         "</sensors></handbot_probe></controllers><arena size=\"3,3,3\" "
+         "center=\"0,0,1.5\"><ceiling height=\"2.5\"/>"
+         "<handbot id=\"h\" " +
+         handbot_attributes + "><body position=\"0,0,0\"/><controller config=\"hp\"/></handbot>" +
+         arena +
+         "</arena><physics_engines><dynamics3d id=\"d3d\" "
+         "stepper=\"worldstep\"/></physics_engines></colony>";
 }
 
 HandbotProbe& Probe(Simulation& sim) {
@@ -69,7 +78,9 @@ void RunFor(Simulation& sim, double seconds) {
   const int ticks = static_cast<int>(std::lround(seconds / sim.dt()));
   for (int t = 0; t < ticks; ++t) sim.Step();
 }
-Vec3 PositionOf(Simulation& sim, const std::string& id) { return sim.space().pose(sim.space().Find(id).index).position; }
+Vec3 PositionOf(Simulation& sim, const std::string& id) {
+  return sim.space().pose(sim.space().Find(id).index).position;
+}
 
 TEST(Handbot, TheHeadTurnsAtItsCommandedSpeed) {
   auto sim = LoadXml(Scene(""));
@@ -89,13 +100,15 @@ TEST(Handbot, TheHeadTurnsAtItsCommandedSpeed) {
   RunFor(*sim, 1.4);
   EXPECT_NEAR(p.head_sensor->rotation(), 1.2, 0.01);
   EXPECT_FALSE(p.head_sensor->stalled());
-  EXPECT_LT(std::abs(p.head_sensor->torque()), 0.5 * handbot::kHeadStallTorque) << "turning the balanced arms is easy";
+  EXPECT_LT(std::abs(p.head_sensor->torque()), 0.5 * handbot::kHeadStallTorque)
+      << "turning the balanced arms is easy";
 }
 
 TEST(Handbot, AnArmPushingABoardItCannotMoveStallsAtItsStallTorque) {
   // A fixed board 0.2 m ahead of the head: the left gripper meets it on the
   // way out; the robot is heavy enough not to slide back (25 kg).
-  auto sim = LoadXml(Scene("<box id=\"board\" size=\"0.02,1,1\"><body position=\"0.3,0,0\"/></box>", "mass=\"25\""));
+  auto sim = LoadXml(Scene("<box id=\"board\" size=\"0.02,1,1\"><body position=\"0.3,0,0\"/></box>",
+                           "mass=\"25\""));
   HandbotProbe& p = Probe(*sim);
   p.arms->SetExtension(kLeft, M_PI / 2);
   RunFor(*sim, 2);
@@ -103,7 +116,8 @@ TEST(Handbot, AnArmPushingABoardItCannotMoveStallsAtItsStallTorque) {
   EXPECT_GT(extension, 0.2);
   EXPECT_LT(extension, M_PI / 2 - 0.2) << "stopped by the board";
   EXPECT_TRUE(p.arms_sensor->stalled(kLeft));
-  EXPECT_NEAR(p.arms_sensor->torque(kLeft), handbot::kArmStallTorque, 0.1 * handbot::kArmStallTorque);
+  EXPECT_NEAR(p.arms_sensor->torque(kLeft), handbot::kArmStallTorque,
+              0.1 * handbot::kArmStallTorque);
   EXPECT_FALSE(p.arms_sensor->stalled(HandbotArmsActuator::kRight));
   // Folded back, it is free again.
   p.arms->SetExtension(kLeft, 0);
@@ -117,8 +131,8 @@ TEST(Handbot, AnArmPushingABoardItCannotMoveStallsAtItsStallTorque) {
 // 0.18 m up).
 std::string Shelf(double mass) {
   return "<box id=\"shelf\" size=\"0.3,0.4,0.05\"><body position=\"0.45,0.06,0.03\"/></box>"
-         "<box id=\"book\" size=\"0.05,0.15,0.2\" movable=\"true\" mass=\"" + std::to_string(mass) +
-         "\"><body position=\"0.365,0.06,0.0801\"/></box>";
+         "<box id=\"book\" size=\"0.05,0.15,0.2\" movable=\"true\" mass=\"" +
+         std::to_string(mass) + "\"><body position=\"0.365,0.06,0.0801\"/></box>";
 }
 
 TEST(Handbot, AGripperHoldsABookAsTheRobotClimbsAndASixKiloWeightSlipsOut) {
@@ -153,7 +167,8 @@ TEST(Handbot, AGripperHoldsABookAsTheRobotClimbsAndASixKiloWeightSlipsOut) {
 
 TEST(Handbot, BothGrippersHoldOneBoard) {
   // The board's face 0.325 m ahead: the grippers' tips reach 0.335 m.
-  auto sim = LoadXml(Scene("<box id=\"board\" size=\"0.04,0.6,0.9\"><body position=\"0.345,0,0\"/></box>"));
+  auto sim = LoadXml(
+      Scene("<box id=\"board\" size=\"0.04,0.6,0.9\"><body position=\"0.345,0,0\"/></box>"));
   HandbotProbe& p = Probe(*sim);
   for (int k = 0; k < 2; ++k) p.arms->SetExtension(k, M_PI / 2);
   RunFor(*sim, 1.5);
@@ -182,7 +197,9 @@ TEST(Handbot, OpeningTheClawsLetsGo) {
   EXPECT_NEAR(p.grippers_sensor->aperture(HandbotGrippersActuator::kRight), 0.0, 1e-9);
 }
 
-double YawOfRobot(Simulation& sim) { return YawOf(sim.space().pose(sim.space().Find("h").index).orientation); }
+double YawOfRobot(Simulation& sim) {
+  return YawOf(sim.space().pose(sim.space().Find("h").index).orientation);
+}
 
 TEST(Handbot, TheFansTurnTheHangingRobotAndHoldAHeading) {
   auto sim = LoadXml(Scene(""));
@@ -220,12 +237,15 @@ TEST(Handbot, CommandsBeyondWhatTheMotorsCanDoAreCappedWithAWarning) {
 }
 
 TEST(Handbot, BadSetupsAreRefusedAtLoad) {
-  EXPECT_TRUE(Mentions(LoadError(Scene("", "mass=\"0.5\"")), {"<handbot id=\"h\">", "mass", "no heavier than"}));
+  EXPECT_TRUE(Mentions(LoadError(Scene("", "mass=\"0.5\"")),
+                       {"<handbot id=\"h\">", "mass", "no heavier than"}));
   // The hand-bot's devices on a marXbot.
   const std::string marxbot =
       "<colony><framework><experiment length=\"10\" ticks_per_second=\"10\"/></framework>"
-      "<controllers><handbot_probe id=\"hp\"><actuators><handbot_head/><handbot_arms/><handbot_grippers/>"
-      "<rope_launcher/></actuators><sensors><handbot_head/><handbot_arms/><handbot_grippers/></sensors>"
+      "<controllers><handbot_probe "
+      "id=\"hp\"><actuators><handbot_head/><handbot_arms/><handbot_grippers/>"
+      "<rope_launcher/></actuators><sensors><handbot_head/><handbot_arms/><handbot_grippers/></"
+      "sensors>"
       "</handbot_probe></controllers><arena size=\"3,3,3\" center=\"0,0,1.5\"><marxbot id=\"m\">"
       "<body position=\"0,0,0\"/><controller config=\"hp\"/></marxbot></arena><physics_engines>"
       "<dynamics3d id=\"d3d\"/></physics_engines></colony>";

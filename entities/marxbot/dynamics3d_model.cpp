@@ -87,12 +87,15 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
     dMassSetCylinderTotal(&m, chassis_mass, 3, radius, height);
     dBodySetMass(chassis, &m);
     dSpaceID parts = engine.MakePartSpace(s);
-    dGeomID body = engine.AddGeom(s, dCreateCylinder(parts, radius, height - geo.body_bottom), kBody);
+    dGeomID body =
+        engine.AddGeom(s, dCreateCylinder(parts, radius, height - geo.body_bottom), kBody);
     dGeomSetBody(body, chassis);
     dGeomSetOffsetPosition(body, 0, 0, 0.5 * (height + geo.body_bottom) - com);
-    dGeomID belly = engine.AddGeom(
-        s, dCreateBox(parts, 2 * geo.belly_half_length, 2 * geo.belly_half_width, geo.belly_top - geo.belly_bottom),
-        kBody);
+    dGeomID belly =
+        engine.AddGeom(s,
+                       dCreateBox(parts, 2 * geo.belly_half_length, 2 * geo.belly_half_width,
+                                  geo.belly_top - geo.belly_bottom),
+                       kBody);
     dGeomSetBody(belly, chassis);
     dGeomSetOffsetPosition(belly, 0, 0, 0.5 * (geo.belly_top + geo.belly_bottom) - com);
     // Treels: two wheels each (front and rear), whose tread moves at the
@@ -193,7 +196,9 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
   }
 
   bool Anchor(const Space&, uint32_t s, std::string_view name, Pose& pose) const override {
-    if (name != ManipulatorState::kHeadAnchor || s >= robots_.size() || !robots_[s] || !robots_[s]->head) return false;
+    if (name != ManipulatorState::kHeadAnchor || s >= robots_.size() || !robots_[s] ||
+        !robots_[s]->head)
+      return false;
     pose.position = BodyPos(robots_[s]->head);
     pose.orientation = BodyQuat(robots_[s]->head);
     return true;
@@ -202,12 +207,13 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
   // A treel's wheel touches something: its tread drives the robot. The
   // motor's torque bounds the pull along the tread: with the treel's share
   // of the robot's weight, F <= min(mu N, torque / wheel radius).
-  void ModifyContacts(Engine& engine, dGeomID wheel, bool wheel_first, double mu, dContact* contacts,
-                      int n) override {
+  void ModifyContacts(Engine& engine, dGeomID wheel, bool wheel_first, double mu,
+                      dContact* contacts, int n) override {
     const Robot& r = *robots_[Engine::OwnerOf(wheel)];
     const double tread = r.tread[Engine::PartOf(wheel) == kRightTreel ? 1 : 0];
     (void)engine;
-    DriveTreadContacts(wheel, wheel_first, tread, std::min(mu, r.pull_limit), mu, kTreelSideSlip, contacts, n);
+    DriveTreadContacts(wheel, wheel_first, tread, std::min(mu, r.pull_limit), mu, kTreelSideSlip,
+                       contacts, n);
   }
 
  private:
@@ -276,22 +282,30 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
     r.tread[1] = v + w * kMarxbot3d.treel_y;
   }
 
-  static double Elevation(const Robot& r) { return r.elevation0 + dJointGetPistonPosition(r.piston); }
-  static double Rotation(const Robot& r) { return WrapAngle(r.rotation0 + dJointGetPistonAngle(r.piston)); }
+  static double Elevation(const Robot& r) {
+    return r.elevation0 + dJointGetPistonPosition(r.piston);
+  }
+  static double Rotation(const Robot& r) {
+    return WrapAngle(r.rotation0 + dJointGetPistonAngle(r.piston));
+  }
 
   static void DriveHead(const Space& space, uint32_t s, Robot& r, double h) {
     const ManipulatorState& m = *space.Get<ManipulatorState>(s);
-    const double lo = std::min(m.min_elevation, m.max_elevation), hi = std::max(m.min_elevation, m.max_elevation);
-    const double target = std::clamp(std::isfinite(m.target_elevation) ? m.target_elevation : lo, lo, hi);
+    const double lo = std::min(m.min_elevation, m.max_elevation),
+                 hi = std::max(m.min_elevation, m.max_elevation);
+    const double target =
+        std::clamp(std::isfinite(m.target_elevation) ? m.target_elevation : lo, lo, hi);
     const double e = Elevation(r);
-    dJointSetPistonParam(r.piston, dParamVel, std::clamp((target - e) / h, -m.elevation_speed, m.elevation_speed));
+    dJointSetPistonParam(r.piston, dParamVel,
+                         std::clamp((target - e) / h, -m.elevation_speed, m.elevation_speed));
     // Stops 1 cm beyond the range, so the motor never pushes against them (at
     // a stop ODE would add the motor's full force explicitly).
     dJointSetPistonParam(r.piston, dParamLoStop, lo - 0.01 - r.elevation0);
     dJointSetPistonParam(r.piston, dParamHiStop, hi + 0.01 - r.elevation0);
     const double aim = std::isfinite(m.target_rotation) ? m.target_rotation : Rotation(r);
     const double error = WrapAngle(aim - Rotation(r));
-    dJointSetPistonParam(r.piston, dParamVel2, std::clamp(error / h, -m.rotation_speed, m.rotation_speed));
+    dJointSetPistonParam(r.piston, dParamVel2,
+                         std::clamp(error / h, -m.rotation_speed, m.rotation_speed));
   }
 
   // Switches the magnet over, lets go when it is no longer fully engaged,
@@ -315,11 +329,12 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
   std::vector<uint32_t> slots_;                 // this model's robots, in slot order
 };
 
-COLONY_REGISTER_PHYSICS_MODEL(MarxbotDynamics3dModel, "dynamics3d:marxbot",
-                              "one body on two treels of two wheels each, whose treads move at the wheel speeds "
-                              "(torque-limited, slip); the gripper fixes what it closes on to the body; with "
-                              "manipulator=\"true\" a motor-driven head carrying a magnet",
-                              (std::vector<std::string>{"drive", "manipulator", "gripper"}));
+COLONY_REGISTER_PHYSICS_MODEL(
+    MarxbotDynamics3dModel, "dynamics3d:marxbot",
+    "one body on two treels of two wheels each, whose treads move at the wheel speeds "
+    "(torque-limited, slip); the gripper fixes what it closes on to the body; with "
+    "manipulator=\"true\" a motor-driven head carrying a magnet",
+    (std::vector<std::string>{"drive", "manipulator", "gripper"}));
 
 }  // namespace
 }  // namespace colony

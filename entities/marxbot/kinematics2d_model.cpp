@@ -7,9 +7,10 @@ namespace {
 
 class MarxbotKinematics2dModel : public Kinematics2dDrivenDiscModel {};
 
-COLONY_REGISTER_PHYSICS_MODEL(MarxbotKinematics2dModel, "kinematics2d:marxbot",
-                              "circular footprint moved by its differential drive; stops at obstacles",
-                              (std::vector<std::string>{"drive"}));
+COLONY_REGISTER_PHYSICS_MODEL(
+    MarxbotKinematics2dModel, "kinematics2d:marxbot",
+    "circular footprint moved by its differential drive; stops at obstacles",
+    (std::vector<std::string>{"drive"}));
 
 }  // namespace
 }  // namespace colony

@@ -11,13 +11,13 @@ class MarxbotType : public EntityType {
  public:
   MarxbotType() {
     using namespace marxbot;
-    mounts_.rings["proximity"] = {kProximityCount, kBodyRadius, kProximityElevation, M_PI / kProximityCount,
-                                  kProximityRange};
+    mounts_.rings["proximity"] = {kProximityCount, kBodyRadius, kProximityElevation,
+                                  M_PI / kProximityCount, kProximityRange};
     mounts_.rings["ground"] = {kGroundCount, kGroundRadius, 0.0, 0.0, 0.0};
     mounts_.rings["leds"] = {kRingLedCount, kLedRingRadius, kLedRingElevation, 0.0, 0.0};
     mounts_.rings["light"] = {kLightCount, kBodyRadius, kLightElevation, M_PI / kLightCount, 0.0};
-    mounts_.rings["distance_scanner"] = {kScannerSensorCount, kScannerRadius, kScannerElevation, 0.0,
-                                         kScannerRange};
+    mounts_.rings["distance_scanner"] = {kScannerSensorCount, kScannerRadius, kScannerElevation,
+                                         0.0, kScannerRange};
   }
 
   void Build(const ConfigNode& node, EntityDesc& desc) const override {
@@ -44,7 +44,9 @@ class MarxbotType : public EntityType {
   }
   bool is_robot() const override { return true; }
   std::string ComponentHint(std::string_view name) const override {
-    return name == ManipulatorState::kComponentName ? "declare the marxbot with manipulator=\"true\"" : "";
+    return name == ManipulatorState::kComponentName
+               ? "declare the marxbot with manipulator=\"true\""
+               : "";
   }
   const DeviceMounts& mounts() const override { return mounts_; }
 
@@ -56,9 +58,10 @@ COLONY_REGISTER_ENTITY(
     MarxbotType, "marxbot",
     "the marXbot (foot-bot): 17 cm diameter, differential treels up to 0.3 m/s, 24 proximity "
     "sensors, 8 ground sensors, 12 RGB LEDs + beacon; takes <body> and <controller config>",
-    (std::vector<AttributeDoc>{{"color", kColorAccepted, "60,60,60", "body colour"},
-                               {"manipulator", "true, false", "false",
-                                "carries the magnetic construction manipulator (29 cm tall); needs dynamics3d"}}),
+    (std::vector<AttributeDoc>{
+        {"color", kColorAccepted, "60,60,60", "body colour"},
+        {"manipulator", "true, false", "false",
+         "carries the magnetic construction manipulator (29 cm tall); needs dynamics3d"}}),
     (std::vector<std::string>{"foot-bot"}));
 
 }  // namespace

@@ -37,7 +37,7 @@ TEST(Marxbot, BodyFigures) {
   const uint32_t i = space.Find("r").index;
   const Geometry& g = space.geometry(i);
   EXPECT_EQ(g.shape, ShapeKind::kCylinder);
-  EXPECT_DOUBLE_EQ(g.radius, 0.085);  // 17 cm diameter
+  EXPECT_DOUBLE_EQ(g.radius, 0.085);    // 17 cm diameter
   EXPECT_DOUBLE_EQ(g.height(), 0.147);  // the base, without the manipulator
   EXPECT_EQ(space.flags(i) & (kSolid | kMovable | kRobot), kSolid | kMovable | kRobot);
   EXPECT_EQ(space.TypeLabel(space.type(i)), "marxbot");
@@ -84,7 +84,7 @@ TEST(Marxbot, DeviceFigures) {
   EXPECT_DOUBLE_EQ(light->elevation, 0.06);
   const RingMount* scanner = mounts.Ring("distance_scanner");
   ASSERT_NE(scanner, nullptr);
-  EXPECT_EQ(scanner->count, 4);  // short, long, short, long on the rotor
+  EXPECT_EQ(scanner->count, 4);                // short, long, short, long on the rotor
   EXPECT_DOUBLE_EQ(scanner->elevation, 0.09);  // scan plane 9 cm above the floor
   EXPECT_DOUBLE_EQ(scanner->range, 1.5);
   EXPECT_EQ(mounts.Ring("camera"), nullptr);
@@ -102,7 +102,8 @@ TEST(Marxbot, HeaderMatchesRobotsMd) {
 }
 
 TEST(Marxbot, FootBotAliasIsAccepted) {
-  auto sim = LoadXml(Experiment(Robot("fb", "0,0,0", "", "foot-bot") + Robot("mb", "1,0,0"), kController));
+  auto sim =
+      LoadXml(Experiment(Robot("fb", "0,0,0", "", "foot-bot") + Robot("mb", "1,0,0"), kController));
   const Space& space = sim->space();
   const uint32_t fb = space.Find("fb").index, mb = space.Find("mb").index;
   EXPECT_EQ(space.type(fb), space.type(mb));  // the same type, not a look-alike
@@ -113,58 +114,71 @@ TEST(Marxbot, FootBotAliasIsAccepted) {
 }
 
 TEST(Marxbot, FootBotAliasWorksInDistribute) {
-  auto sim = LoadXml(Experiment(
-      "<distribute><position method=\"uniform\" min=\"-1.5,-1.5,0\" max=\"1.5,1.5,0\"/>"
-      "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
-      "<entity quantity=\"10\"><foot-bot id=\"fb\"><controller config=\"mp\"/></foot-bot></entity></distribute>",
-      kController));
+  auto sim = LoadXml(
+      Experiment("<distribute><position method=\"uniform\" min=\"-1.5,-1.5,0\" max=\"1.5,1.5,0\"/>"
+                 "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
+                 "<entity quantity=\"10\"><foot-bot id=\"fb\"><controller "
+                 "config=\"mp\"/></foot-bot></entity></distribute>",
+                 kController));
   EXPECT_EQ(sim->robot_count(), 10u);
   EXPECT_TRUE(sim->space().Find("fb0").valid());
   EXPECT_TRUE(sim->space().Find("fb9").valid());
 }
 
 TEST(Marxbot, ColorAttribute) {
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0", "color=\"red\"") + Robot("s", "1,0,0", "color=\"10,20,30\""),
-                                kController));
+  auto sim = LoadXml(
+      Experiment(Robot("r", "0,0,0", "color=\"red\"") + Robot("s", "1,0,0", "color=\"10,20,30\""),
+                 kController));
   EXPECT_EQ(sim->space().color(sim->space().Find("r").index), (Color{255, 0, 0, 255}));
   EXPECT_EQ(sim->space().color(sim->space().Find("s").index), (Color{10, 20, 30, 255}));
-  const std::string bad = LoadError(Experiment(Robot("r", "0,0,0", "color=\"reddish\""), kController));
+  const std::string bad =
+      LoadError(Experiment(Robot("r", "0,0,0", "color=\"reddish\""), kController));
   EXPECT_NE(bad.find("<marxbot id=\"r\"> attribute 'color'"), std::string::npos) << bad;
   EXPECT_NE(bad.find("is not a colour"), std::string::npos) << bad;
 }
 
 TEST(Marxbot, OrientationIsYawPitchRollInDegrees) {
-  auto sim = LoadXml(Experiment(
-      "<marxbot id=\"r\"><body position=\"0,0,0\" orientation=\"30,0,0\"/><controller config=\"mp\"/></marxbot>",
-      kController));
-  EXPECT_NEAR(YawOf(sim->space().pose(sim->space().Find("r").index).orientation), DegToRad(30), 1e-12);
+  auto sim =
+      LoadXml(Experiment("<marxbot id=\"r\"><body position=\"0,0,0\" "
+                         "orientation=\"30,0,0\"/><controller config=\"mp\"/></marxbot>",
+                         kController));
+  EXPECT_NEAR(YawOf(sim->space().pose(sim->space().Find("r").index).orientation), DegToRad(30),
+              1e-12);
 }
 
 TEST(Marxbot, MistakesAreReported) {
   // No <controller>.
   const std::string no_controller =
       LoadError(Experiment("<marxbot id=\"r\"><body position=\"0,0,0\"/></marxbot>", kController));
-  EXPECT_NE(no_controller.find("missing <controller config=\"ID\"/>"), std::string::npos) << no_controller;
+  EXPECT_NE(no_controller.find("missing <controller config=\"ID\"/>"), std::string::npos)
+      << no_controller;
   // No <body>.
-  const std::string no_body = LoadError(Experiment("<marxbot id=\"r\"><controller config=\"mp\"/></marxbot>", kController));
+  const std::string no_body =
+      LoadError(Experiment("<marxbot id=\"r\"><controller config=\"mp\"/></marxbot>", kController));
   EXPECT_NE(no_body.find("missing <body"), std::string::npos) << no_body;
   // No id.
-  const std::string no_id =
-      LoadError(Experiment("<marxbot><body position=\"0,0,0\"/><controller config=\"mp\"/></marxbot>", kController));
-  EXPECT_NE(no_id.find("attribute 'id': required attribute is missing"), std::string::npos) << no_id;
+  const std::string no_id = LoadError(Experiment(
+      "<marxbot><body position=\"0,0,0\"/><controller config=\"mp\"/></marxbot>", kController));
+  EXPECT_NE(no_id.find("attribute 'id': required attribute is missing"), std::string::npos)
+      << no_id;
   // Unknown controller, with a suggestion.
   const std::string unknown = LoadError(Experiment(
-      "<marxbot id=\"r\"><body position=\"0,0,0\"/><controller config=\"pm\"/></marxbot>", kController));
+      "<marxbot id=\"r\"><body position=\"0,0,0\"/><controller config=\"pm\"/></marxbot>",
+      kController));
   EXPECT_NE(unknown.find("no controller with id 'pm'"), std::string::npos) << unknown;
   EXPECT_NE(unknown.find("did you mean 'mp'"), std::string::npos) << unknown;
   // Unknown attribute, with a suggestion.
-  const std::string typo = LoadError(Experiment(Robot("r", "0,0,0", "colour=\"red\""), kController));
-  EXPECT_NE(typo.find("attribute 'colour': unknown attribute (did you mean 'color'?)"), std::string::npos) << typo;
+  const std::string typo =
+      LoadError(Experiment(Robot("r", "0,0,0", "colour=\"red\""), kController));
+  EXPECT_NE(typo.find("attribute 'colour': unknown attribute (did you mean 'color'?)"),
+            std::string::npos)
+      << typo;
   // Misspelt element name.
   const std::string element = LoadError(Experiment(Robot("r", "0,0,0", "", "marxbt"), kController));
   EXPECT_NE(element.find("did you mean <marxbot>"), std::string::npos) << element;
   // Duplicate id.
-  const std::string duplicate = LoadError(Experiment(Robot("r", "0,0,0") + Robot("r", "1,0,0"), kController));
+  const std::string duplicate =
+      LoadError(Experiment(Robot("r", "0,0,0") + Robot("r", "1,0,0"), kController));
   EXPECT_NE(duplicate.find("duplicate entity id 'r'"), std::string::npos) << duplicate;
   // Bad position.
   const std::string position = LoadError(Experiment(Robot("r", "0,0"), kController));

@@ -30,15 +30,18 @@ class CubeModel : public SolidDynamics3dModel {
   CubeModel() : SolidDynamics3dModel(dynamics3d::kCube) {}
 };
 
-COLONY_REGISTER_PHYSICS_MODEL(BoxModel, "dynamics3d:box", "box: a body of its mass if movable, static geometry otherwise",
+COLONY_REGISTER_PHYSICS_MODEL(BoxModel, "dynamics3d:box",
+                              "box: a body of its mass if movable, static geometry otherwise",
                               (std::vector<std::string>{}));
-COLONY_REGISTER_PHYSICS_MODEL(CylinderModel, "dynamics3d:cylinder",
-                              "upright cylinder: a body of its mass if movable, static geometry otherwise",
-                              (std::vector<std::string>{}));
-COLONY_REGISTER_PHYSICS_MODEL(CubeModel, "dynamics3d:cube",
-                              "construction cube: held by the manipulator's magnet; self-aligns and bonds when "
-                              "it lands on another cube within the capture tolerance",
-                              (std::vector<std::string>{}));
+COLONY_REGISTER_PHYSICS_MODEL(
+    CylinderModel, "dynamics3d:cylinder",
+    "upright cylinder: a body of its mass if movable, static geometry otherwise",
+    (std::vector<std::string>{}));
+COLONY_REGISTER_PHYSICS_MODEL(
+    CubeModel, "dynamics3d:cube",
+    "construction cube: held by the manipulator's magnet; self-aligns and bonds when "
+    "it lands on another cube within the capture tolerance",
+    (std::vector<std::string>{}));
 
 }  // namespace
 }  // namespace colony

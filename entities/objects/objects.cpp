@@ -37,8 +37,8 @@ std::vector<AttributeDoc> BoxAttributes() {
   return a;
 }
 
-COLONY_REGISTER_ENTITY(BoxType, "box", "a box: wall or obstacle, movable or not; takes <body>", BoxAttributes(),
-                       {});
+COLONY_REGISTER_ENTITY(BoxType, "box", "a box: wall or obstacle, movable or not; takes <body>",
+                       BoxAttributes(), {});
 
 class CylinderType : public EntityType {
  public:
@@ -59,7 +59,8 @@ std::vector<AttributeDoc> CylinderAttributes() {
   return a;
 }
 
-COLONY_REGISTER_ENTITY(CylinderType, "cylinder", "an upright cylinder: obstacle, movable or not; takes <body>",
+COLONY_REGISTER_ENTITY(CylinderType, "cylinder",
+                       "an upright cylinder: obstacle, movable or not; takes <body>",
                        CylinderAttributes(), {});
 
 // The construction cube (seeds 000 and 001): 6 cm of light polystyrene with
@@ -80,15 +81,16 @@ class CubeType : public EntityType {
   }
 };
 
-COLONY_REGISTER_ENTITY(CubeType, "cube",
-                       "a construction cube: 6 cm, light, held by the manipulator's magnet, self-aligning "
-                       "when stacked; always movable; takes <body>",
-                       (std::vector<AttributeDoc>{
-                           {"size", "a number > 0 (m)", "0.06", "side"},
-                           {"mass", "a number > 0 (kg)", "0.04", "mass (polystyrene with steel plates and magnets)"},
-                           {"color", kColorAccepted, "240,240,240", "colour; the tops are the brightest surfaces"},
-                       }),
-                       (std::vector<std::string>{"construction_cube"}));
+COLONY_REGISTER_ENTITY(
+    CubeType, "cube",
+    "a construction cube: 6 cm, light, held by the manipulator's magnet, self-aligning "
+    "when stacked; always movable; takes <body>",
+    (std::vector<AttributeDoc>{
+        {"size", "a number > 0 (m)", "0.06", "side"},
+        {"mass", "a number > 0 (kg)", "0.04", "mass (polystyrene with steel plates and magnets)"},
+        {"color", kColorAccepted, "240,240,240", "colour; the tops are the brightest surfaces"},
+    }),
+    (std::vector<std::string>{"construction_cube"}));
 
 class LightType : public EntityType {
  public:
@@ -109,7 +111,8 @@ class LightType : public EntityType {
 COLONY_REGISTER_ENTITY(LightType, "light", "a point light that light sensors see; not solid",
                        (std::vector<AttributeDoc>{
                            {"position", "\"x,y,z\" (m)", "", "where the light is"},
-                           {"orientation", "\"yaw,pitch,roll\" (degrees)", "0,0,0", "direction (unused by point lights)"},
+                           {"orientation", "\"yaw,pitch,roll\" (degrees)", "0,0,0",
+                            "direction (unused by point lights)"},
                            {"color", kColorAccepted, "yellow", "colour of the light"},
                            {"intensity", "a number > 0", "1", "relative intensity"},
                            {"medium", "a medium id", "none", "accepted for ARGoS files; unused"},
@@ -128,14 +131,15 @@ class LandmarkType : public EntityType {
   }
 };
 
-COLONY_REGISTER_ENTITY(LandmarkType, "landmark",
-                       "a coloured post the omnidirectional camera sees (one blob at its centre); not solid; "
-                       "takes <body>",
-                       (std::vector<AttributeDoc>{
-                           {"height", "a number > 0 (m)", "0.2", "the blob is at half this height"},
-                           {"color", kColorAccepted, "green", "colour of the blob (black: not seen)"},
-                       }),
-                       {});
+COLONY_REGISTER_ENTITY(
+    LandmarkType, "landmark",
+    "a coloured post the omnidirectional camera sees (one blob at its centre); not solid; "
+    "takes <body>",
+    (std::vector<AttributeDoc>{
+        {"height", "a number > 0 (m)", "0.2", "the blob is at half this height"},
+        {"color", kColorAccepted, "green", "colour of the blob (black: not seen)"},
+    }),
+    {});
 
 }  // namespace
 }  // namespace colony

@@ -23,31 +23,36 @@ COLONY_REGISTER_CONTROLLER(ObjectsProbe, "objects_probe", "test: does nothing");
 
 const std::string kController = "<objects_probe id=\"op\"/>";
 
-std::string Box(const std::string& id, const std::string& attributes, const std::string& position = "0,0,0",
-                const std::string& orientation = "0,0,0") {
-  return "<box id=\"" + id + "\" " + attributes + "><body position=\"" + position + "\" orientation=\"" +
-         orientation + "\"/></box>";
+std::string Box(const std::string& id, const std::string& attributes,
+                const std::string& position = "0,0,0", const std::string& orientation = "0,0,0") {
+  return "<box id=\"" + id + "\" " + attributes + "><body position=\"" + position +
+         "\" orientation=\"" + orientation + "\"/></box>";
 }
 
-std::string Cylinder(const std::string& id, const std::string& attributes, const std::string& position = "0,0,0") {
-  return "<cylinder id=\"" + id + "\" " + attributes + "><body position=\"" + position + "\"/></cylinder>";
+std::string Cylinder(const std::string& id, const std::string& attributes,
+                     const std::string& position = "0,0,0") {
+  return "<cylinder id=\"" + id + "\" " + attributes + "><body position=\"" + position +
+         "\"/></cylinder>";
 }
 
 std::string Robot(const std::string& id, const std::string& position) {
-  return "<marxbot id=\"" + id + "\"><body position=\"" + position + "\"/><controller config=\"op\"/></marxbot>";
+  return "<marxbot id=\"" + id + "\"><body position=\"" + position +
+         "\"/><controller config=\"op\"/></marxbot>";
 }
 
 std::string Error(const std::string& arena) { return LoadError(Experiment(arena, kController)); }
 
 void ExpectMentions(const std::string& message, const std::vector<std::string>& parts) {
   EXPECT_FALSE(message.empty()) << "expected an error";
-  for (const auto& p : parts) EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' not in: " << message;
+  for (const auto& p : parts)
+    EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' not in: " << message;
 }
 
 // --- box
 
 TEST(Box, SizePoseAndDefaults) {
-  auto sim = LoadXml(Experiment(Box("b", "size=\"0.4,0.2,0.3\"", "0.5,-0.5,0", "30,0,0"), kController));
+  auto sim =
+      LoadXml(Experiment(Box("b", "size=\"0.4,0.2,0.3\"", "0.5,-0.5,0", "30,0,0"), kController));
   const Space& space = sim->space();
   const uint32_t i = space.Find("b").index;
   EXPECT_EQ(space.geometry(i).shape, ShapeKind::kBox);
@@ -63,9 +68,10 @@ TEST(Box, SizePoseAndDefaults) {
 }
 
 TEST(Box, MovableAndColour) {
-  auto sim = LoadXml(Experiment(Box("b", "size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"2.5\" color=\"blue\"") +
-                                    Box("c", "size=\"0.2,0.2,0.2\" movable=\"false\" color=\"gray70\"", "1,0,0"),
-                                kController));
+  auto sim = LoadXml(
+      Experiment(Box("b", "size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"2.5\" color=\"blue\"") +
+                     Box("c", "size=\"0.2,0.2,0.2\" movable=\"false\" color=\"gray70\"", "1,0,0"),
+                 kController));
   const Space& space = sim->space();
   const uint32_t b = space.Find("b").index, c = space.Find("c").index;
   EXPECT_TRUE(space.movable(b));
@@ -75,13 +81,17 @@ TEST(Box, MovableAndColour) {
 }
 
 TEST(Box, SizeErrors) {
-  ExpectMentions(Error(Box("b", "")), {"<box id=\"b\">", "attribute 'size'", "required attribute is missing"});
+  ExpectMentions(Error(Box("b", "")),
+                 {"<box id=\"b\">", "attribute 'size'", "required attribute is missing"});
   ExpectMentions(Error(Box("b", "size=\"0.5,-0.1,0.2\"")),
                  {"attribute 'size'", "'0.5,-0.1,0.2' is out of range", "accepted: a number > 0"});
   ExpectMentions(Error(Box("b", "size=\"0.5,0,0.2\"")), {"attribute 'size'", "out of range"});
-  ExpectMentions(Error(Box("b", "size=\"0.5,0.2\"")), {"attribute 'size'", "is not three finite numbers"});
-  ExpectMentions(Error(Box("b", "size=\"a,b,c\"")), {"attribute 'size'", "is not three finite numbers"});
-  ExpectMentions(Error(Box("b", "size=\"1,1,nan\"")), {"attribute 'size'", "is not three finite numbers"});
+  ExpectMentions(Error(Box("b", "size=\"0.5,0.2\"")),
+                 {"attribute 'size'", "is not three finite numbers"});
+  ExpectMentions(Error(Box("b", "size=\"a,b,c\"")),
+                 {"attribute 'size'", "is not three finite numbers"});
+  ExpectMentions(Error(Box("b", "size=\"1,1,nan\"")),
+                 {"attribute 'size'", "is not three finite numbers"});
 }
 
 TEST(Box, MassAndMovableErrors) {
@@ -91,34 +101,42 @@ TEST(Box, MassAndMovableErrors) {
                  {"attribute 'mass'", "'-1' is out of range", ">= 0"});
   ExpectMentions(Error(Box("b", "size=\"0.2,0.2,0.2\" movable=\"yes\"")),
                  {"attribute 'movable'", "'yes' is not a boolean; accepted: true, false"});
-  ExpectMentions(Error(Box("b", "size=\"0.2,0.2,0.2\" color=\"pink\"")), {"attribute 'color'", "is not a colour"});
+  ExpectMentions(Error(Box("b", "size=\"0.2,0.2,0.2\" color=\"pink\"")),
+                 {"attribute 'color'", "is not a colour"});
 }
 
 TEST(Box, UnknownAttributeAndChildAreReported) {
   ExpectMentions(Error(Box("b", "size=\"0.2,0.2,0.2\" moveable=\"true\"")),
                  {"attribute 'moveable'", "unknown attribute", "did you mean 'movable'"});
-  ExpectMentions(Error("<box id=\"b\" size=\"0.2,0.2,0.2\"><body position=\"0,0,0\"/><controller config=\"op\"/></box>"),
+  ExpectMentions(Error("<box id=\"b\" size=\"0.2,0.2,0.2\"><body position=\"0,0,0\"/><controller "
+                       "config=\"op\"/></box>"),
                  {"unknown element inside <box>"});
-  ExpectMentions(Error("<box id=\"b\" size=\"0.2,0.2,0.2\"/>"), {"<box id=\"b\">", "missing <body"});
+  ExpectMentions(Error("<box id=\"b\" size=\"0.2,0.2,0.2\"/>"),
+                 {"<box id=\"b\">", "missing <body"});
 }
 
 TEST(Box, PlacementErrors) {
-  ExpectMentions(Error(Box("b", "size=\"1,1,0.2\"", "1.8,0,0")), {"entity 'b' is outside the arena"});
-  ExpectMentions(Error(Box("b", "size=\"0.2,0.2,2\"")), {"entity 'b' is outside the arena"});  // taller than the arena
+  ExpectMentions(Error(Box("b", "size=\"1,1,0.2\"", "1.8,0,0")),
+                 {"entity 'b' is outside the arena"});
+  ExpectMentions(Error(Box("b", "size=\"0.2,0.2,2\"")),
+                 {"entity 'b' is outside the arena"});  // taller than the arena
   // Fixed boxes may touch and cross each other (walls meet at corners)...
   EXPECT_EQ(Error(Box("a", "size=\"1,0.1,0.2\"") + Box("b", "size=\"0.1,1,0.2\"")), "");
   // ...movable ones must start clear.
-  ExpectMentions(Error(Box("a", "size=\"1,0.1,0.2\"") + Box("b", "size=\"0.1,1,0.2\" movable=\"true\"")),
-                 {"entity 'b' overlaps 'a'"});
+  ExpectMentions(
+      Error(Box("a", "size=\"1,0.1,0.2\"") + Box("b", "size=\"0.1,1,0.2\" movable=\"true\"")),
+      {"entity 'b' overlaps 'a'"});
 }
 
 TEST(Box, CannotBePlacedOnARobotWhateverTheOrder) {
   // A robot inside a box is rejected when the box comes first...
-  ExpectMentions(Error(Box("b", "size=\"0.4,0.4,0.2\"") + Robot("r", "0,0,0")), {"entity 'r' overlaps 'b'"});
+  ExpectMentions(Error(Box("b", "size=\"0.4,0.4,0.2\"") + Robot("r", "0,0,0")),
+                 {"entity 'r' overlaps 'b'"});
   // ...and should be when the robot comes first. Exposes the loader checking
   // overlaps only for movable entities (core/loader.cpp, CheckPlacement).
   const std::string message = Error(Robot("r", "0,0,0") + Box("b", "size=\"0.4,0.4,0.2\""));
-  EXPECT_NE(message.find("overlaps"), std::string::npos) << "a robot was placed inside a box: '" << message << "'";
+  EXPECT_NE(message.find("overlaps"), std::string::npos)
+      << "a robot was placed inside a box: '" << message << "'";
 }
 
 TEST(Box, RotatedFootprintIsUsedForPlacement) {
@@ -132,7 +150,8 @@ TEST(Box, RotatedFootprintIsUsedForPlacement) {
 // --- cylinder
 
 TEST(Cylinder, RadiusHeightAndDefaults) {
-  auto sim = LoadXml(Experiment(Cylinder("c", "radius=\"0.15\" height=\"0.4\"", "-1,1,0"), kController));
+  auto sim =
+      LoadXml(Experiment(Cylinder("c", "radius=\"0.15\" height=\"0.4\"", "-1,1,0"), kController));
   const Space& space = sim->space();
   const uint32_t i = space.Find("c").index;
   EXPECT_EQ(space.geometry(i).shape, ShapeKind::kCylinder);
@@ -144,17 +163,22 @@ TEST(Cylinder, RadiusHeightAndDefaults) {
 }
 
 TEST(Cylinder, MovableWithDefaultMass) {
-  auto sim = LoadXml(Experiment(Cylinder("c", "radius=\"0.1\" height=\"0.2\" movable=\"true\""), kController));
+  auto sim = LoadXml(
+      Experiment(Cylinder("c", "radius=\"0.1\" height=\"0.2\" movable=\"true\""), kController));
   EXPECT_TRUE(sim->space().movable(sim->space().Find("c").index));
 }
 
 TEST(Cylinder, Errors) {
-  ExpectMentions(Error(Cylinder("c", "height=\"0.2\"")), {"attribute 'radius'", "required attribute is missing"});
-  ExpectMentions(Error(Cylinder("c", "radius=\"0.1\"")), {"attribute 'height'", "required attribute is missing"});
+  ExpectMentions(Error(Cylinder("c", "height=\"0.2\"")),
+                 {"attribute 'radius'", "required attribute is missing"});
+  ExpectMentions(Error(Cylinder("c", "radius=\"0.1\"")),
+                 {"attribute 'height'", "required attribute is missing"});
   ExpectMentions(Error(Cylinder("c", "radius=\"-0.1\" height=\"0.2\"")),
                  {"attribute 'radius'", "'-0.1' is out of range", "accepted: a number > 0"});
-  ExpectMentions(Error(Cylinder("c", "radius=\"0.1\" height=\"0\"")), {"attribute 'height'", "out of range"});
-  ExpectMentions(Error(Cylinder("c", "radius=\"big\" height=\"0.2\"")), {"attribute 'radius'", "is not a finite number"});
+  ExpectMentions(Error(Cylinder("c", "radius=\"0.1\" height=\"0\"")),
+                 {"attribute 'height'", "out of range"});
+  ExpectMentions(Error(Cylinder("c", "radius=\"big\" height=\"0.2\"")),
+                 {"attribute 'radius'", "is not a finite number"});
   ExpectMentions(Error(Cylinder("c", "radius=\"0.1\" height=\"0.2\" movable=\"true\" mass=\"0\"")),
                  {"attribute 'mass'", "mass > 0"});
   ExpectMentions(Error(Cylinder("c", "radius=\"0.1\" height=\"0.2\" size=\"1,1,1\"")),
@@ -166,8 +190,9 @@ TEST(Cylinder, Errors) {
 // --- light
 
 TEST(Light, PositionColourIntensity) {
-  auto sim = LoadXml(Experiment("<light id=\"l\" position=\"0.5,0.5,0.8\" color=\"orange\" intensity=\"2.5\"/>",
-                                kController));
+  auto sim = LoadXml(
+      Experiment("<light id=\"l\" position=\"0.5,0.5,0.8\" color=\"orange\" intensity=\"2.5\"/>",
+                 kController));
   const Space& space = sim->space();
   const uint32_t i = space.Find("l").index;
   EXPECT_EQ(space.pose(i).position, Vec3(0.5, 0.5, 0.8));
@@ -199,15 +224,19 @@ TEST(Light, ArgosMediumAttributeIsAccepted) {
 }
 
 TEST(Light, Errors) {
-  ExpectMentions(Error("<light id=\"l\"/>"), {"<light id=\"l\">", "attribute 'position'", "required attribute is missing"});
+  ExpectMentions(Error("<light id=\"l\"/>"),
+                 {"<light id=\"l\">", "attribute 'position'", "required attribute is missing"});
   ExpectMentions(Error("<light id=\"l\" position=\"0,0,0.5\" intensity=\"0\"/>"),
                  {"attribute 'intensity'", "'0' is out of range", "> 0"});
-  ExpectMentions(Error("<light id=\"l\" position=\"0,0,0.5\" intensity=\"-3\"/>"), {"attribute 'intensity'"});
-  ExpectMentions(Error("<light id=\"l\" position=\"0,0,0.5\" color=\"bright\"/>"), {"attribute 'color'", "is not a colour"});
+  ExpectMentions(Error("<light id=\"l\" position=\"0,0,0.5\" intensity=\"-3\"/>"),
+                 {"attribute 'intensity'"});
+  ExpectMentions(Error("<light id=\"l\" position=\"0,0,0.5\" color=\"bright\"/>"),
+                 {"attribute 'color'", "is not a colour"});
   // A light takes its position as an attribute, not a <body>.
   ExpectMentions(Error("<light id=\"l\" position=\"0,0,0.5\"><body position=\"0,0,0\"/></light>"),
                  {"unknown element inside <light>"});
-  ExpectMentions(Error("<light id=\"l\" position=\"0,0,0.5\" size=\"1,1,1\"/>"), {"attribute 'size'", "unknown attribute"});
+  ExpectMentions(Error("<light id=\"l\" position=\"0,0,0.5\" size=\"1,1,1\"/>"),
+                 {"attribute 'size'", "unknown attribute"});
 }
 
 // --- registered attributes (what `colony query` and the README list)
@@ -219,7 +248,8 @@ std::vector<std::string> AttributesOf(const std::string& label) {
 
 TEST(Objects, RegisteredAttributesMatchTheReadme) {
   EXPECT_EQ(AttributesOf("box"), (std::vector<std::string>{"size", "movable", "mass", "color"}));
-  EXPECT_EQ(AttributesOf("cylinder"), (std::vector<std::string>{"radius", "height", "movable", "mass", "color"}));
+  EXPECT_EQ(AttributesOf("cylinder"),
+            (std::vector<std::string>{"radius", "height", "movable", "mass", "color"}));
   EXPECT_EQ(AttributesOf("cube"), (std::vector<std::string>{"size", "mass", "color"}));
   EXPECT_EQ(AttributesOf("light"),
             (std::vector<std::string>{"position", "orientation", "color", "intensity", "medium"}));

@@ -14,10 +14,10 @@ namespace colony::swarm {
 
 struct GroupStats {
   size_t robots = 0;
-  size_t groups = 0;           // components of >= min_size robots
-  size_t largest = 0;          // robots in the largest component
-  size_t grouped = 0;          // robots in components of >= min_size robots
-  double mean_nearest = 0;     // mean distance to the nearest other robot (m); 0 with < 2 robots
+  size_t groups = 0;        // components of >= min_size robots
+  size_t largest = 0;       // robots in the largest component
+  size_t grouped = 0;       // robots in components of >= min_size robots
+  double mean_nearest = 0;  // mean distance to the nearest other robot (m); 0 with < 2 robots
 };
 
 class GroupFinder {

@@ -28,23 +28,29 @@ class ConstructionMetrics : public LoopFunctions {
     Space& space = sim().space();
     task_ = params.GetString("task");
     if (task_ != "bridge" && task_ != "tower") {
-      throw ParamError("task", task_, "parameter 'task': '" + task_ + "' is not accepted; accepted: bridge, tower");
+      throw ParamError(
+          "task", task_,
+          "parameter 'task': '" + task_ + "' is not accepted; accepted: bridge, tower");
     }
     tolerance_ = params.GetDouble("tolerance", 0.015, 1e-6, 1.0);
     stop_ = params.GetBool("stop", true);
     if (params.Has("robot")) {
       const std::string id = params.GetString("robot");
       robot_ = space.Find(id);
-      if (!robot_.valid()) throw ParamError("robot", id, "parameter 'robot': no entity '" + id + "' in the arena");
+      if (!robot_.valid())
+        throw ParamError("robot", id, "parameter 'robot': no entity '" + id + "' in the arena");
     } else {
       for (uint32_t s = 0; s < space.slots(); ++s) {
         if (!space.alive(s) || !(space.flags(s) & kRobot)) continue;
         if (robot_.valid()) {
-          throw ParamError("robot", "", "parameter 'robot': the arena has several robots; say which one is measured");
+          throw ParamError(
+              "robot", "",
+              "parameter 'robot': the arena has several robots; say which one is measured");
         }
         robot_ = space.HandleOf(s);
       }
-      if (!robot_.valid()) throw ParamError("robot", "", "parameter 'robot': the arena has no robot");
+      if (!robot_.valid())
+        throw ParamError("robot", "", "parameter 'robot': the arena has no robot");
     }
     cube_type_ = space.TypeId("cube");
     if (space.OfType(cube_type_).empty()) {
@@ -52,7 +58,8 @@ class ConstructionMetrics : public LoopFunctions {
     }
     if (task_ == "bridge") {
       if (space.floor().ditches().empty()) {
-        throw ParamError("task", task_, "parameter 'task': a bridge needs a <ditch> in the arena's <floor>");
+        throw ParamError("task", task_,
+                         "parameter 'task': a bridge needs a <ditch> in the arena's <floor>");
       }
       const Vec3& p = space.pose(robot_.index).position;
       for (const Ditch& d : space.floor().ditches()) start_side_.push_back(SideOf(d, p.x(), p.y()));
@@ -81,7 +88,8 @@ class ConstructionMetrics : public LoopFunctions {
         in_ditch += here;
         const int side = SideOf(d, rp.x(), rp.y());
         const bool on_floor = rp.z() > floor_z - 0.01 && !d.Contains(rp.x(), rp.y());
-        if (here >= 2 && side != 0 && side != start_side_[i] && on_floor && Beyond(d, rp.x(), rp.y())) {
+        if (here >= 2 && side != 0 && side != start_side_[i] && on_floor &&
+            Beyond(d, rp.x(), rp.y())) {
           bridged = true;
         }
       }
@@ -111,7 +119,8 @@ class ConstructionMetrics : public LoopFunctions {
  private:
   // Which side of the ditch (x, y) is on across its width: -1, +1, or 0 over it.
   static int SideOf(const Ditch& d, double x, double y) {
-    const bool along_y = (d.max_y - d.min_y) >= (d.max_x - d.min_x);  // trench runs along y: sides are in x
+    const bool along_y =
+        (d.max_y - d.min_y) >= (d.max_x - d.min_x);  // trench runs along y: sides are in x
     const double v = along_y ? x : y;
     const double lo = along_y ? d.min_x : d.min_y, hi = along_y ? d.max_x : d.max_y;
     if (v < lo) return -1;
@@ -122,7 +131,8 @@ class ConstructionMetrics : public LoopFunctions {
   static bool Beyond(const Ditch& d, double x, double y) {
     const bool along_y = (d.max_y - d.min_y) >= (d.max_x - d.min_x);
     const double clear = 0.09;  // a marXbot's radius and a little
-    return along_y ? (x < d.min_x - clear || x > d.max_x + clear) : (y < d.min_y - clear || y > d.max_y + clear);
+    return along_y ? (x < d.min_x - clear || x > d.max_x + clear)
+                   : (y < d.min_y - clear || y > d.max_y + clear);
   }
 
   // Cubes in the tallest stack: a chain of cubes each resting level on the
@@ -144,8 +154,8 @@ class ConstructionMetrics : public LoopFunctions {
         for (uint32_t c : cubes) {
           if (c == below) continue;
           const Vec3& cp = space.pose(c).position;
-          if (std::abs(cp.z() - top) < 0.005 && std::hypot(cp.x() - lp.x(), cp.y() - lp.y()) < tolerance_ &&
-              Level(c)) {
+          if (std::abs(cp.z() - top) < 0.005 &&
+              std::hypot(cp.x() - lp.x(), cp.y() - lp.y()) < tolerance_ && Level(c)) {
             below = c;
             ++height;
             found = true;
@@ -179,7 +189,8 @@ COLONY_REGISTER_LOOP_FUNCTIONS(
     "success and time of the bridge and tower construction experiments, from ground truth",
     {{"task", "bridge, tower", "", "what counts as success"},
      {"robot", "an entity id", "the only robot", "the robot that must cross the bridge"},
-     {"tolerance", "a number > 0 (m)", "0.015", "how far a cube may sit off the one below it in a tower"},
+     {"tolerance", "a number > 0 (m)", "0.015",
+      "how far a cube may sit off the one below it in a tower"},
      {"stop", "true, false", "true", "end the run on success or failure"}});
 
 }  // namespace

@@ -68,10 +68,11 @@ class DiffusionMetrics : public LoopFunctions {
   uint64_t contact_ticks_ = 0;
 };
 
-COLONY_REGISTER_LOOP_FUNCTIONS(DiffusionMetrics, "diffusion_metrics",
-                               "records robots, mean_displacement, mean_path_length, in_contact and "
-                               "contact_ticks every tick",
-                               {});
+COLONY_REGISTER_LOOP_FUNCTIONS(
+    DiffusionMetrics, "diffusion_metrics",
+    "records robots, mean_displacement, mean_path_length, in_contact and "
+    "contact_ticks every tick",
+    {});
 
 }  // namespace
 }  // namespace colony

@@ -56,11 +56,12 @@ class FlockingMetrics : public LoopFunctions {
   swarm::GroupFinder finder_;
 };
 
-COLONY_REGISTER_LOOP_FUNCTIONS(FlockingMetrics, "flocking_metrics",
-                               "records robots, polarisation, mean_nn_distance, groups and "
-                               "largest_group_fraction every tick",
-                               {{"group_distance", "a number in [0.001, 1e6] (m)", "1",
-                                 "robots closer than this (centre to centre) are in the same group"}});
+COLONY_REGISTER_LOOP_FUNCTIONS(
+    FlockingMetrics, "flocking_metrics",
+    "records robots, polarisation, mean_nn_distance, groups and "
+    "largest_group_fraction every tick",
+    {{"group_distance", "a number in [0.001, 1e6] (m)", "1",
+      "robots closer than this (centre to centre) are in the same group"}});
 
 }  // namespace
 }  // namespace colony

@@ -15,7 +15,8 @@ class ObjectDistance : public LoopFunctions {
   void Init(const Params& params) override {
     const std::string id = params.GetString("entity");
     entity_ = sim().space().Find(id);
-    if (!entity_.valid()) throw ParamError("entity", id, "parameter 'entity': no entity '" + id + "' in the arena");
+    if (!entity_.valid())
+      throw ParamError("entity", id, "parameter 'entity': no entity '" + id + "' in the arena");
     const std::string target = params.GetString("target");
     char extra = 0;
     if (std::sscanf(target.c_str(), "%lf,%lf%c", &x_, &y_, &extra) != 2) {

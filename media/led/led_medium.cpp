@@ -30,7 +30,8 @@ const LedMedium::TypeLeds& LedMedium::LedsOfType(uint32_t slot) {
     if (const RingMount* ring = sim().MountsOf(sim().space().HandleOf(slot)).Ring("leds")) {
       for (int i = 0; i < ring->count; ++i) {
         const double a = ring->AngleOf(i);
-        t.ring.emplace_back(ring->radius * std::cos(a), ring->radius * std::sin(a), ring->elevation);
+        t.ring.emplace_back(ring->radius * std::cos(a), ring->radius * std::sin(a),
+                            ring->elevation);
       }
     }
   }
@@ -48,7 +49,8 @@ void LedMedium::Update() {
   }
   if (landmark_type_ < 0) {
     for (size_t t = 0; t < space.type_count(); ++t) {
-      if (space.TypeLabel(static_cast<uint16_t>(t)) == "landmark") landmark_type_ = static_cast<int>(t);
+      if (space.TypeLabel(static_cast<uint16_t>(t)) == "landmark")
+        landmark_type_ = static_cast<int>(t);
     }
   }
 
@@ -91,7 +93,8 @@ void LedMedium::Update() {
         const Pose& pose = space.pose(s);
         const double height = space.geometry(s).height();
         const std::vector<Vec3>* ring = nullptr;
-        if (s < slots && space.alive(s) && !space.leds(s).empty()) ring = &types_[space.type(s)].ring;
+        if (s < slots && space.alive(s) && !space.leds(s).empty())
+          ring = &types_[space.type(s)].ring;
         bool rotated = false;
         Eigen::Matrix3d rotation;
         for_each_point(s, [&](int i, Color color) {
@@ -117,14 +120,15 @@ void LedMedium::Update() {
   if (occlusions_ && count > 0) occluders_.Build(space, grid_.cell_size());
 }
 
-COLONY_REGISTER_MEDIUM(
-    LedMedium, "led",
-    "every lit LED (robots' LED rings and beacons, lights) and every landmark, as coloured points that "
-    "cameras see",
-    (std::vector<AttributeDoc>{
-        {"cell_size", "a number > 0 (m)", "the largest camera range",
-         "side of the index's grid cells (a speed knob: which blobs are seen does not depend on it, their "
-         "order does)"},
-    }));
+COLONY_REGISTER_MEDIUM(LedMedium, "led",
+                       "every lit LED (robots' LED rings and beacons, lights) and every landmark, "
+                       "as coloured points that "
+                       "cameras see",
+                       (std::vector<AttributeDoc>{
+                           {"cell_size", "a number > 0 (m)", "the largest camera range",
+                            "side of the index's grid cells (a speed knob: which blobs are seen "
+                            "does not depend on it, their "
+                            "order does)"},
+                       }));
 
 }  // namespace colony

@@ -66,7 +66,7 @@ class LedMedium : public Medium {
   std::vector<uint32_t> block_counts_;  // lit points per block of slots
   std::vector<Led> unsorted_;
   std::vector<uint32_t> cell_of_;
-  std::vector<Led> leds_;               // sorted by cell
+  std::vector<Led> leds_;  // sorted by cell
   CellGrid grid_;
 };
 

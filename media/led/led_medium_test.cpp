@@ -15,8 +15,8 @@
 namespace colony {
 namespace {
 
-using testing::Experiment;
 using testing::ExpectMentions;
+using testing::Experiment;
 using testing::LoadError;
 using testing::LoadXml;
 using testing::ReadmeAttributes;
@@ -44,26 +44,32 @@ LedMedium* LedIndex(Simulation& sim) {
   return nullptr;
 }
 
-std::string Robot(const std::string& id, const std::string& position, double yaw, const std::string& config) {
-  return "<marxbot id=\"" + id + "\"><body position=\"" + position + "\" orientation=\"" + std::to_string(yaw) +
-         ",0,0\"/><controller config=\"" + config + "\"/></marxbot>";
+std::string Robot(const std::string& id, const std::string& position, double yaw,
+                  const std::string& config) {
+  return "<marxbot id=\"" + id + "\"><body position=\"" + position + "\" orientation=\"" +
+         std::to_string(yaw) + ",0,0\"/><controller config=\"" + config + "\"/></marxbot>";
 }
 
 const std::string kControllers =
     "<led_idle id=\"red\"><actuators><leds color=\"red\"/></actuators></led_idle>"
     "<led_idle id=\"dark\"/>"
-    "<led_idle id=\"one\"><actuators><leds color=\"blue\"/></actuators><params only_led=\"4\"/></led_idle>";
+    "<led_idle id=\"one\"><actuators><leds color=\"blue\"/></actuators><params "
+    "only_led=\"4\"/></led_idle>";
 
 const std::string kMedia = "<media><led id=\"leds\"/></media>";
 
-bool Near(const LedMedium::Led& l, const Vec3& p) { return (Vec3(l.x, l.y, l.z) - p).norm() < 1e-12; }
+bool Near(const LedMedium::Led& l, const Vec3& p) {
+  return (Vec3(l.x, l.y, l.z) - p).norm() < 1e-12;
+}
 
 TEST(LedMedium, IndexesEveryLitLedInTheWorldFrame) {
-  auto sim = LoadXml(Experiment(Robot("a", "1,0.5,0", 30, "red") + Robot("b", "-1,0.5,0", 0, "dark") +
-                                    "<light id=\"sun\" position=\"0,0,0.5\" color=\"yellow\"/>"
-                                    "<landmark id=\"post\" height=\"0.4\" color=\"cyan\"><body position=\"-1,-1,0\"/></landmark>"
-                                    "<box id=\"box\" size=\"0.2,0.2,0.2\"><body position=\"1,-1,0\"/></box>",
-                                kControllers, "4,4,1", kMedia));
+  auto sim = LoadXml(
+      Experiment(Robot("a", "1,0.5,0", 30, "red") + Robot("b", "-1,0.5,0", 0, "dark") +
+                     "<light id=\"sun\" position=\"0,0,0.5\" color=\"yellow\"/>"
+                     "<landmark id=\"post\" height=\"0.4\" color=\"cyan\"><body "
+                     "position=\"-1,-1,0\"/></landmark>"
+                     "<box id=\"box\" size=\"0.2,0.2,0.2\"><body position=\"1,-1,0\"/></box>",
+                 kControllers, "4,4,1", kMedia));
   sim->Step();
   const LedMedium* medium = LedIndex(*sim);
   ASSERT_NE(medium, nullptr);
@@ -81,15 +87,20 @@ TEST(LedMedium, IndexesEveryLitLedInTheWorldFrame) {
     EXPECT_EQ(found, 1) << "ring LED " << i;
   }
   // Beacon on top of the axis.
-  EXPECT_EQ(std::count_if(leds.begin(), leds.end(), [&](const auto& l) { return l.owner == a && Near(l, Vec3(1, 0.5, 0.147)); }), 1);
+  EXPECT_EQ(
+      std::count_if(leds.begin(), leds.end(),
+                    [&](const auto& l) { return l.owner == a && Near(l, Vec3(1, 0.5, 0.147)); }),
+      1);
   // The light where it is, in its colour; the landmark at half its height.
-  EXPECT_EQ(std::count_if(leds.begin(), leds.end(), [&](const auto& l) {
-              return Near(l, Vec3(0, 0, 0.5)) && l.color == Color{255, 255, 0, 255};
-            }),
+  EXPECT_EQ(std::count_if(leds.begin(), leds.end(),
+                          [&](const auto& l) {
+                            return Near(l, Vec3(0, 0, 0.5)) && l.color == Color{255, 255, 0, 255};
+                          }),
             1);
-  EXPECT_EQ(std::count_if(leds.begin(), leds.end(), [&](const auto& l) {
-              return Near(l, Vec3(-1, -1, 0.2)) && l.color == Color{0, 255, 255, 255};
-            }),
+  EXPECT_EQ(std::count_if(leds.begin(), leds.end(),
+                          [&](const auto& l) {
+                            return Near(l, Vec3(-1, -1, 0.2)) && l.color == Color{0, 255, 255, 255};
+                          }),
             1);
 }
 
@@ -99,7 +110,8 @@ TEST(LedMedium, OnlyLitLedsAreIndexedAndTheyFollowTheRobot) {
   const auto& leds = LedIndex(*sim)->leds();
   ASSERT_EQ(leds.size(), 1u);
   // LED 4 is 120 degrees left of the front; the robot faces +y: 210 degrees in the world.
-  EXPECT_TRUE(Near(leds[0], Vec3(0.075 * std::cos(DegToRad(210)), 0.075 * std::sin(DegToRad(210)), 0.13)));
+  EXPECT_TRUE(
+      Near(leds[0], Vec3(0.075 * std::cos(DegToRad(210)), 0.075 * std::sin(DegToRad(210)), 0.13)));
   EXPECT_EQ(leds[0].color, (Color{0, 0, 255, 255}));
   sim->RemoveEntity(sim->space().Find("a"));
   sim->Step();
@@ -113,17 +125,20 @@ TEST(LedMedium, CandidateRunsHoldEverythingWithinReach) {
   std::uniform_real_distribution<double> coordinate(-4.9, 4.9);
   std::string arena;
   for (int i = 0; i < 400; ++i) {
-    arena += "<landmark id=\"l" + std::to_string(i) + "\"><body position=\"" + std::to_string(coordinate(gen)) + "," +
-             std::to_string(coordinate(gen)) + ",0\"/></landmark>";
+    arena += "<landmark id=\"l" + std::to_string(i) + "\"><body position=\"" +
+             std::to_string(coordinate(gen)) + "," + std::to_string(coordinate(gen)) +
+             ",0\"/></landmark>";
   }
-  for (const std::string media : {"<media><led id=\"m\"/></media>", "<media><led id=\"m\" cell_size=\"0.3\"/></media>",
-                                  "<media><led id=\"m\" cell_size=\"7\"/></media>"}) {
+  for (const std::string media :
+       {"<media><led id=\"m\"/></media>", "<media><led id=\"m\" cell_size=\"0.3\"/></media>",
+        "<media><led id=\"m\" cell_size=\"7\"/></media>"}) {
     auto sim = LoadXml(Experiment(arena, "", "10,10,1", media));
     sim->Step();
     const LedMedium& medium = *LedIndex(*sim);
     ASSERT_EQ(medium.leds().size(), 400u);
     for (int q = 0; q < 200; ++q) {
-      const double x = coordinate(gen) * 1.1, y = coordinate(gen) * 1.1, reach = 0.2 + 2.0 * (q % 5) / 4;
+      const double x = coordinate(gen) * 1.1, y = coordinate(gen) * 1.1,
+                   reach = 0.2 + 2.0 * (q % 5) / 4;
       std::vector<uint32_t> seen;
       medium.ForEachCandidateRun(x, y, reach, [&](uint32_t b, uint32_t e) {
         for (uint32_t i = b; i < e; ++i) seen.push_back(i);
@@ -149,17 +164,22 @@ TEST(LedMedium, CellsFollowTheLargestCameraRangeOrTheAttribute) {
   ASSERT_EQ(sim->media().size(), 1u);  // none declared: one with default settings, shared
   EXPECT_EQ(sim->media()[0]->id(), "led");
   EXPECT_DOUBLE_EQ(LedIndex(*sim)->cell_size(), 2.5);
-  auto set = LoadXml(Experiment(robot, two_cameras, "4,4,1", "<media><led id=\"m\" cell_size=\"0.4\"/></media>"));
+  auto set = LoadXml(
+      Experiment(robot, two_cameras, "4,4,1", "<media><led id=\"m\" cell_size=\"0.4\"/></media>"));
   set->Step();
   EXPECT_DOUBLE_EQ(LedIndex(*set)->cell_size(), 0.4);
 }
 
 TEST(LedMedium, BadMediaAreReported) {
-  ExpectMentions(LoadError(Experiment("", "", "4,4,1", "<media><ledd id=\"m\"/></media>")), {"did you mean 'led'"});
-  ExpectMentions(LoadError(Experiment("", "", "4,4,1", "<media><led id=\"m\" cellsize=\"1\"/></media>")),
-                 {"<led id=\"m\"> attribute 'cellsize'", "did you mean 'cell_size'"});
-  ExpectMentions(LoadError(Experiment("", "", "4,4,1", "<media><led id=\"m\"/><range_and_bearing id=\"m\"/></media>")),
-                 {"duplicate medium id 'm'"});
+  ExpectMentions(LoadError(Experiment("", "", "4,4,1", "<media><ledd id=\"m\"/></media>")),
+                 {"did you mean 'led'"});
+  ExpectMentions(
+      LoadError(Experiment("", "", "4,4,1", "<media><led id=\"m\" cellsize=\"1\"/></media>")),
+      {"<led id=\"m\"> attribute 'cellsize'", "did you mean 'cell_size'"});
+  ExpectMentions(
+      LoadError(Experiment("", "", "4,4,1",
+                           "<media><led id=\"m\"/><range_and_bearing id=\"m\"/></media>")),
+      {"duplicate medium id 'm'"});
 }
 
 TEST(LedMedium, RegisteredAttributesMatchTheReadme) {

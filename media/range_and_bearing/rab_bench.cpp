@@ -13,9 +13,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -61,7 +61,8 @@ class BenchController : public Controller {
   uint8_t ticks_ = 0;
 };
 
-COLONY_REGISTER_CONTROLLER(BenchController, "rab_bench_controller", "rab_bench: drives, optionally talks");
+COLONY_REGISTER_CONTROLLER(BenchController, "rab_bench_controller",
+                           "rab_bench: drives, optionally talks");
 
 struct Options {
   int robots = 10000;
@@ -71,8 +72,8 @@ struct Options {
   int threads = 2;
   bool occlusions = false;
   int repeat = 3;
-  std::string only;  // "baseline" or "rab": run only that one (for profilers)
-  double cell = 0;   // the medium's cell_size (0: its default)
+  std::string only;   // "baseline" or "rab": run only that one (for profilers)
+  double cell = 0;    // the medium's cell_size (0: its default)
   bool grid = false;  // robots on a square grid, created row by row (slot order = spatial order)
 };
 
@@ -90,27 +91,38 @@ std::string Scene(const Options& o, bool with_rab) {
   const double half = side / 2 - 0.1;
   const std::string devices =
       with_rab ? "<sensors><range_and_bearing/></sensors><actuators><differential_steering/>"
-                 "<range_and_bearing range=\"" + std::to_string(o.range) + "\"/></actuators>"
+                 "<range_and_bearing range=\"" +
+                     std::to_string(o.range) + "\"/></actuators>"
                : "<actuators><differential_steering/></actuators>";
   const int per_row = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(o.robots))));
   const std::string spacing = std::to_string(std::sqrt(o.area));
   const std::string position =
       o.grid ? "<position method=\"grid\" center=\"0,0,0\" distances=\"" + spacing + "," + spacing +
-                   ",0\" layout=\"" + std::to_string(per_row) + "," + std::to_string(per_row) + ",1\"/>"
-             : "<position method=\"uniform\" min=\"-" + std::to_string(half) + ",-" + std::to_string(half) +
-                   ",0\" max=\"" + std::to_string(half) + "," + std::to_string(half) + ",0\"/>";
+                   ",0\" layout=\"" + std::to_string(per_row) + "," + std::to_string(per_row) +
+                   ",1\"/>"
+             : "<position method=\"uniform\" min=\"-" + std::to_string(half) + ",-" +
+                   std::to_string(half) + ",0\" max=\"" + std::to_string(half) + "," +
+                   std::to_string(half) + ",0\"/>";
   return "<colony><framework><system threads=\"" + std::to_string(o.threads) +
          "\"/><experiment length=\"100000\" ticks_per_second=\"10\" random_seed=\"1\"/></framework>"
-         "<controllers><rab_bench_controller id=\"c\">" + devices + "</rab_bench_controller></controllers>"
-         "<arena size=\"" + Number(arena) + "," + Number(arena) + ",1\" center=\"0,0,0.5\">"
-         "<walls thickness=\"0.1\" height=\"0.5\"/><distribute>"
-         + position +
+         "<controllers><rab_bench_controller id=\"c\">" +
+         devices +
+         "</rab_bench_controller></controllers>"
+         "<arena size=\"" +
+         Number(arena) + "," + Number(arena) +
+         ",1\" center=\"0,0,0.5\">"
+         "<walls thickness=\"0.1\" height=\"0.5\"/><distribute>" +
+         position +
          "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
-         "<entity quantity=\"" + std::to_string(o.robots) + "\" max_trials=\"1000\"><marxbot id=\"mb\">"
+         "<entity quantity=\"" +
+         std::to_string(o.robots) +
+         "\" max_trials=\"1000\"><marxbot id=\"mb\">"
          "<controller config=\"c\"/></marxbot></entity></distribute></arena>"
          "<physics_engines><kinematics2d id=\"k\"/></physics_engines>"
-         "<media><range_and_bearing id=\"rab\" check_occlusions=\"" + (o.occlusions ? "true" : "false") + "\"" +
-         (o.cell > 0 ? " cell_size=\"" + std::to_string(o.cell) + "\"" : std::string()) + "/></media>"
+         "<media><range_and_bearing id=\"rab\" check_occlusions=\"" +
+         (o.occlusions ? "true" : "false") + "\"" +
+         (o.cell > 0 ? " cell_size=\"" + std::to_string(o.cell) + "\"" : std::string()) +
+         "/></media>"
          "</colony>";
 }
 
@@ -141,7 +153,9 @@ Timing Measure(const Options& o, bool with_rab) {
     if (with_rab) {
       uint64_t total = 0;
       for (int i = 0; i < o.robots; ++i) {
-        total += dynamic_cast<BenchController*>(sim->ControllerOf(sim->space().Find("mb" + std::to_string(i))))->heard;
+        total += dynamic_cast<BenchController*>(
+                     sim->ControllerOf(sim->space().Find("mb" + std::to_string(i))))
+                     ->heard;
       }
       out.heard = static_cast<double>(total) / (static_cast<double>(o.robots) * (o.ticks + 1));
     }
@@ -162,16 +176,26 @@ int Main(int argc, char** argv) {
       return 2;
     }
     const char* v = argv[++i];
-    if (a == "--robots") o.robots = std::atoi(v);
-    else if (a == "--range") o.range = std::atof(v);
-    else if (a == "--area") o.area = std::atof(v);
-    else if (a == "--ticks") o.ticks = std::atoi(v);
-    else if (a == "--threads") o.threads = std::atoi(v);
-    else if (a == "--occlusions") o.occlusions = std::strcmp(v, "true") == 0;
-    else if (a == "--repeat") o.repeat = std::atoi(v);
-    else if (a == "--only") o.only = v;
-    else if (a == "--cell") o.cell = std::atof(v);
-    else if (a == "--placement") o.grid = std::strcmp(v, "grid") == 0;
+    if (a == "--robots")
+      o.robots = std::atoi(v);
+    else if (a == "--range")
+      o.range = std::atof(v);
+    else if (a == "--area")
+      o.area = std::atof(v);
+    else if (a == "--ticks")
+      o.ticks = std::atoi(v);
+    else if (a == "--threads")
+      o.threads = std::atoi(v);
+    else if (a == "--occlusions")
+      o.occlusions = std::strcmp(v, "true") == 0;
+    else if (a == "--repeat")
+      o.repeat = std::atoi(v);
+    else if (a == "--only")
+      o.only = v;
+    else if (a == "--cell")
+      o.cell = std::atof(v);
+    else if (a == "--placement")
+      o.grid = std::strcmp(v, "grid") == 0;
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;
@@ -183,19 +207,22 @@ int Main(int argc, char** argv) {
   }
   if (o.only == "baseline" || o.only == "rab") {
     const Timing t = Measure(o, o.only == "rab");
-    std::printf("RESULT %s robots=%d steps_per_s=%.0f cpu_ns_per_robot_step=%.0f\n", o.only.c_str(), o.robots,
-                o.robots * o.ticks / t.wall, t.cpu / (static_cast<double>(o.robots) * o.ticks) * 1e9);
+    std::printf("RESULT %s robots=%d steps_per_s=%.0f cpu_ns_per_robot_step=%.0f\n", o.only.c_str(),
+                o.robots, o.robots * o.ticks / t.wall,
+                t.cpu / (static_cast<double>(o.robots) * o.ticks) * 1e9);
     return 0;
   }
   const Timing base = Measure(o, false);
   const Timing rab = Measure(o, true);
   const double steps = static_cast<double>(o.robots) * o.ticks;
   std::printf(
-      "RESULT robots=%d range=%g area_per_robot=%g occlusions=%s threads=%d ticks=%d packets_per_robot=%.1f "
+      "RESULT robots=%d range=%g area_per_robot=%g occlusions=%s threads=%d ticks=%d "
+      "packets_per_robot=%.1f "
       "baseline_steps_per_s=%.0f rab_steps_per_s=%.0f baseline_cpu_ns_per_robot_step=%.0f "
       "rab_cpu_ns_per_robot_step=%.0f rab_extra_cpu_ns_per_robot_step=%.0f\n",
-      o.robots, o.range, o.area, o.occlusions ? "true" : "false", o.threads, o.ticks, rab.heard, steps / base.wall,
-      steps / rab.wall, base.cpu / steps * 1e9, rab.cpu / steps * 1e9, (rab.cpu - base.cpu) / steps * 1e9);
+      o.robots, o.range, o.area, o.occlusions ? "true" : "false", o.threads, o.ticks, rab.heard,
+      steps / base.wall, steps / rab.wall, base.cpu / steps * 1e9, rab.cpu / steps * 1e9,
+      (rab.cpu - base.cpu) / steps * 1e9);
   return 0;
 }
 

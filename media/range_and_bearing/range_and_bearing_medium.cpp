@@ -44,7 +44,8 @@ void RangeAndBearingMedium::Update() {
     active_.push_back(e);
     max_range_ = std::max(max_range_, em.range);
   }
-  grid_.Configure(space, cell_size_ > 0 ? cell_size_ : (max_range_ > 0 ? max_range_ : range_), active_.size());
+  grid_.Configure(space, cell_size_ > 0 ? cell_size_ : (max_range_ > 0 ? max_range_ : range_),
+                  active_.size());
 
   // Counting sort by cell, stable in emitter order: positions are computed
   // once into unsorted_ (in parallel), then scattered.
@@ -55,8 +56,12 @@ void RangeAndBearingMedium::Update() {
     for (size_t k = b; k < e; ++k) {
       const Emitter& em = emitters_[active_[k]];
       const Vec3 p = RangeAndBearingPoint(space, em.robot.index);
-      unsorted_[k] = {p.x(), p.y(), static_cast<float>(p.z()), static_cast<float>(em.range * em.range),
-                      em.robot.index, em.data_offset};
+      unsorted_[k] = {p.x(),
+                      p.y(),
+                      static_cast<float>(p.z()),
+                      static_cast<float>(em.range * em.range),
+                      em.robot.index,
+                      em.data_offset};
       cell_of_[k] = grid_.CellOf(p.x(), p.y());
     }
   });
@@ -69,14 +74,17 @@ void RangeAndBearingMedium::Update() {
 
 COLONY_REGISTER_MEDIUM(
     RangeAndBearingMedium, "range_and_bearing",
-    "carries range-and-bearing messages: each robot's payload reaches the receivers within its range, "
-    "with the sender's distance and bearing; blocked by solid bodies unless check_occlusions is false",
+    "carries range-and-bearing messages: each robot's payload reaches the receivers within its "
+    "range, "
+    "with the sender's distance and bearing; blocked by solid bodies unless check_occlusions is "
+    "false",
     (std::vector<AttributeDoc>{
         {"check_occlusions", "true, false", "true",
          "a solid body between sender and receiver (other than those two) blocks the message"},
         {"range", "a number > 0 (m)", "3", "range of senders whose actuator sets none"},
         {"cell_size", "a number > 0 (m)", "the largest range of the tick's messages",
-         "side of the index's grid cells (a speed knob: which messages are received does not depend on it, "
+         "side of the index's grid cells (a speed knob: which messages are received does not "
+         "depend on it, "
          "their order does)"},
     }));
 

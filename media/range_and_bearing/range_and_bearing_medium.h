@@ -120,9 +120,9 @@ class RangeAndBearingMedium : public Medium {
   std::vector<Message> messages_;
   std::vector<uint8_t> payload_;  // a copy of staged_data_ taken at Update
   CellGrid grid_;
-  std::vector<uint32_t> active_;      // emitters sending this tick
-  std::vector<uint32_t> cell_of_;     // per active emitter
-  std::vector<Message> unsorted_;     // per active emitter
+  std::vector<uint32_t> active_;   // emitters sending this tick
+  std::vector<uint32_t> cell_of_;  // per active emitter
+  std::vector<Message> unsorted_;  // per active emitter
   double max_range_ = 0;
   OccluderGrid occluders_;
 };

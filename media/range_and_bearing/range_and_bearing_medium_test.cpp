@@ -43,18 +43,20 @@ RangeAndBearingMedium* Index(Simulation& sim) {
 }
 
 std::string Robot(const std::string& id, double x, double y, const std::string& config = "tx") {
-  return "<marxbot id=\"" + id + "\"><body position=\"" + std::to_string(x) + "," + std::to_string(y) +
-         ",0\"/><controller config=\"" + config + "\"/></marxbot>";
+  return "<marxbot id=\"" + id + "\"><body position=\"" + std::to_string(x) + "," +
+         std::to_string(y) + ",0\"/><controller config=\"" + config + "\"/></marxbot>";
 }
 
 const std::string kControllers =
     "<rab_idle id=\"tx\"><actuators><range_and_bearing range=\"1.2\"/></actuators></rab_idle>"
-    "<rab_idle id=\"short\"><actuators><range_and_bearing range=\"0.8\" data_size=\"3\"/></actuators></rab_idle>"
-    "<rab_idle id=\"quiet\"><actuators><range_and_bearing/></actuators><params silent=\"true\"/></rab_idle>";
+    "<rab_idle id=\"short\"><actuators><range_and_bearing range=\"0.8\" "
+    "data_size=\"3\"/></actuators></rab_idle>"
+    "<rab_idle id=\"quiet\"><actuators><range_and_bearing/></actuators><params "
+    "silent=\"true\"/></rab_idle>";
 
 TEST(RangeAndBearingMedium, IndexesThisTicksMessagesWhereTheirSendersAre) {
-  auto sim = LoadXml(Experiment(Robot("a", 1, 0.5) + Robot("b", -1, 0, "short") + Robot("c", 0, -1, "quiet"),
-                                kControllers));
+  auto sim = LoadXml(Experiment(
+      Robot("a", 1, 0.5) + Robot("b", -1, 0, "short") + Robot("c", 0, -1, "quiet"), kControllers));
   sim->Step();
   ASSERT_EQ(sim->media().size(), 1u);  // none declared: one with default settings
   const RangeAndBearingMedium& m = *Index(*sim);
@@ -89,9 +91,10 @@ TEST(RangeAndBearingMedium, IndexesThisTicksMessagesWhereTheirSendersAre) {
 }
 
 TEST(RangeAndBearingMedium, DeclaredSettingsAreUsed) {
-  auto sim = LoadXml(Experiment(Robot("a", 0, 0, "quiet"), kControllers, "4,4,1",
-                                "<media><range_and_bearing id=\"ir\" check_occlusions=\"false\" range=\"2\" "
-                                "cell_size=\"0.5\"/></media>"));
+  auto sim = LoadXml(
+      Experiment(Robot("a", 0, 0, "quiet"), kControllers, "4,4,1",
+                 "<media><range_and_bearing id=\"ir\" check_occlusions=\"false\" range=\"2\" "
+                 "cell_size=\"0.5\"/></media>"));
   sim->Step();
   const RangeAndBearingMedium& m = *Index(*sim);
   EXPECT_EQ(m.id(), "ir");
@@ -102,9 +105,10 @@ TEST(RangeAndBearingMedium, DeclaredSettingsAreUsed) {
 
 TEST(RangeAndBearingMedium, TheGridStaysSmallForTinyRangesInLargeArenas) {
   // 1 cm range over 200 x 200 m would be 4e8 cells: the cells grow instead.
-  auto sim = LoadXml(Experiment(Robot("a", 0, 0, "tiny"),
-                                "<rab_idle id=\"tiny\"><actuators><range_and_bearing range=\"0.01\"/></actuators></rab_idle>",
-                                "200,200,1"));
+  auto sim = LoadXml(Experiment(
+      Robot("a", 0, 0, "tiny"),
+      "<rab_idle id=\"tiny\"><actuators><range_and_bearing range=\"0.01\"/></actuators></rab_idle>",
+      "200,200,1"));
   sim->Step();
   const double cell = Index(*sim)->cell_size();
   EXPECT_LE(std::ceil(200 / cell) * std::ceil(200 / cell), 4096.0);
@@ -117,10 +121,12 @@ TEST(RangeAndBearingMedium, CandidateRunsHoldEverySenderWithinReach) {
   const std::string arena =
       "<distribute><position method=\"uniform\" min=\"-4.8,-4.8,0\" max=\"4.8,4.8,0\"/>"
       "<orientation method=\"constant\" values=\"0,0,0\"/>"
-      "<entity quantity=\"300\" max_trials=\"100\"><marxbot id=\"r\"><controller config=\"tx\"/></marxbot></entity>"
+      "<entity quantity=\"300\" max_trials=\"100\"><marxbot id=\"r\"><controller "
+      "config=\"tx\"/></marxbot></entity>"
       "</distribute>";
-  for (const std::string media : {"", "<media><range_and_bearing id=\"m\" cell_size=\"0.25\"/></media>",
-                                  "<media><range_and_bearing id=\"m\" cell_size=\"20\"/></media>"}) {
+  for (const std::string media :
+       {"", "<media><range_and_bearing id=\"m\" cell_size=\"0.25\"/></media>",
+        "<media><range_and_bearing id=\"m\" cell_size=\"20\"/></media>"}) {
     auto sim = LoadXml(Experiment(arena, kControllers, "10,10,1", media));
     sim->Step();
     const RangeAndBearingMedium& m = *Index(*sim);

@@ -349,7 +349,8 @@ TEST_F(Rendering, RenderingDoesNotChangeTheResults) {
 TEST(ImageRenderer, DrawsWhatTheCameraSeesExceptTheHiddenEntity) {
   unsetenv("DISPLAY");
   ASSERT_TRUE(HaveImageRenderer());
-  auto sim = LoadXml(Experiment(Robot("below", "0,0,0") + Robot("beside", "0.15,0.15,0"), kRedRobots));
+  auto sim =
+      LoadXml(Experiment(Robot("below", "0,0,0") + Robot("beside", "0.15,0.15,0"), kRedRobots));
   sim->Step();
   CameraView view;
   view.position = Vec3(0, 0, 1);

@@ -4,13 +4,12 @@
 // tick. When it reaches 0 and stop_when_empty is set, the robot loses power
 // (DriveState::powered = false) and the steering actuator stops its wheels.
 // Each instance writes only its own robot's drive, so chunks run in parallel.
-#include "sensors/battery/battery.h"
-
 #include <algorithm>
 #include <cmath>
 
 #include "core/device.h"
 #include "core/simulation.h"
+#include "sensors/battery/battery.h"
 
 namespace colony {
 namespace {
@@ -65,7 +64,9 @@ class BatterySystem : public SensorSystem {
       if (!b.alive) continue;
       DriveState* drive = space.drive(b.robot.index);
       double used = idle;
-      if (drive) used += motion_energy_ * 0.5 * (std::abs(drive->travelled_left) + std::abs(drive->travelled_right));
+      if (drive)
+        used += motion_energy_ * 0.5 *
+                (std::abs(drive->travelled_left) + std::abs(drive->travelled_right));
       b.charge = std::max(0.0, b.charge - used);
       const bool empty = b.charge <= 0;
       if (empty && stop_when_empty_ && drive) drive->powered = false;
@@ -85,7 +86,8 @@ class BatterySystem : public SensorSystem {
   }
 
  private:
-  double capacity_ = kCapacity, initial_level_ = 1, idle_power_ = kIdlePower, motion_energy_ = kMotionEnergy;
+  double capacity_ = kCapacity, initial_level_ = 1, idle_power_ = kIdlePower,
+         motion_energy_ = kMotionEnergy;
   bool stop_when_empty_ = true;
   NoiseModel noise_;
   InstanceStore<BatteryInstance> instances_;
@@ -94,19 +96,23 @@ class BatterySystem : public SensorSystem {
 std::vector<AttributeDoc> BatteryAttributes() {
   std::vector<AttributeDoc> a = {
       {"capacity", "a number > 0 (J)", "136800 (38 Wh)", "energy of a full battery"},
-      {"initial_level", "a number in [0, 1]", "1", "charge at the start, as a fraction of capacity"},
+      {"initial_level", "a number in [0, 1]", "1",
+       "charge at the start, as a fraction of capacity"},
       {"idle_power", "a number >= 0 (W)", "2.4", "drain while the robot exists, moving or not"},
-      {"motion_energy", "a number >= 0 (J/m)", "10", "extra drain per metre travelled (mean of the two wheels' travel)"},
-      {"stop_when_empty", "true, false", "true", "an empty battery cuts the robot's power: its wheels stop"},
+      {"motion_energy", "a number >= 0 (J/m)", "10",
+       "extra drain per metre travelled (mean of the two wheels' travel)"},
+      {"stop_when_empty", "true, false", "true",
+       "an empty battery cuts the robot's power: its wheels stop"},
   };
   for (auto& n : NoiseModel::Attributes(/*with_drop=*/false)) a.push_back(n);
   return a;
 }
 
-COLONY_REGISTER_SENSOR(BatterySystem, "battery", "default",
-                       "battery level in [0, 1], falling with time (idle_power) and with wheel travel "
-                       "(motion_energy); an empty battery stops the robot",
-                       BatteryAttributes());
+COLONY_REGISTER_SENSOR(
+    BatterySystem, "battery", "default",
+    "battery level in [0, 1], falling with time (idle_power) and with wheel travel "
+    "(motion_energy); an empty battery stops the robot",
+    BatteryAttributes());
 
 }  // namespace
 }  // namespace colony

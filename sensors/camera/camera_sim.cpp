@@ -4,8 +4,6 @@
 // simple shapes. One image renderer per camera configuration draws the images
 // one at a time (Mesa spreads each over its own threads); it is made on the
 // first update, so a camera that no controller declares costs nothing.
-#include "sensors/camera/camera.h"
-
 #include <algorithm>
 #include <memory>
 #include <mutex>
@@ -15,6 +13,7 @@
 #include "core/device.h"
 #include "core/image_renderer.h"
 #include "core/simulation.h"
+#include "sensors/camera/camera.h"
 
 namespace colony {
 namespace {

@@ -193,10 +193,11 @@ TEST(CameraErrors, BadSettingsAreRejected) {
 TEST(CameraErrors, ABuildWithoutAnImageRendererRefusesTheCameraNamingTheOption) {
   const testing::WithoutImageRenderer no_image_renderer;
   const std::string message = LoadError(Experiment(Robot("r", "0,0,0"), "\n" + Controllers()));
-  EXPECT_TRUE(Mentions(message, {"<string>:2: <camera>",
-                                 "the camera sensor needs an image renderer, and this build has none: "
-                                 "configure with -DCOLONY_WITH_OSMESA=ON (needs libosmesa6-dev and "
-                                 "libassimp-dev)"}));
+  EXPECT_TRUE(
+      Mentions(message, {"<string>:2: <camera>",
+                         "the camera sensor needs an image renderer, and this build has none: "
+                         "configure with -DCOLONY_WITH_OSMESA=ON (needs libosmesa6-dev and "
+                         "libassimp-dev)"}));
 }
 
 }  // namespace

@@ -22,9 +22,10 @@ class DistanceScanner : public Sensor {
   static constexpr float kNoReading = -1.0f;
 
   struct Reading {
-    float angle;     // direction of the ray in the robot's frame, ccw from the front, in (-pi, pi] (rad)
-    float distance;  // from the robot's axis to what the sensor saw (m), or kNoReading
-    uint8_t sensor;  // which sensor on the rotor: 0..3, at rotor angle + sensor x 90 degrees
+    float
+        angle;  // direction of the ray in the robot's frame, ccw from the front, in (-pi, pi] (rad)
+    float distance;   // from the robot's axis to what the sensor saw (m), or kNoReading
+    uint8_t sensor;   // which sensor on the rotor: 0..3, at rotor angle + sensor x 90 degrees
     SensorType type;  // sensors 0 and 2 are short range, 1 and 3 long range
   };
 

@@ -16,8 +16,6 @@
 // below V(max)) there is no reading; a ray meeting a surface more obliquely
 // than max_incidence gives none either (the sensors see such surfaces, and
 // corners that reflect the beam away, as holes).
-#include "sensors/distance_scanner/distance_scanner.h"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -27,6 +25,7 @@
 #include "core/entity_type.h"
 #include "core/geometry2d.h"
 #include "core/simulation.h"
+#include "sensors/distance_scanner/distance_scanner.h"
 
 namespace colony {
 namespace {
@@ -40,7 +39,8 @@ struct SharpCurve {
 
   double Voltage(double d) const {
     if (d >= min_range) return peak_voltage * (min_range + offset) / (d + offset);
-    return peak_voltage * (contact_fraction + (1.0 - contact_fraction) * std::max(d, 0.0) / min_range);
+    return peak_voltage *
+           (contact_fraction + (1.0 - contact_fraction) * std::max(d, 0.0) / min_range);
   }
   // The distance the robot computes from a voltage (monotonic branch).
   double Distance(double v) const { return (min_range + offset) * peak_voltage / v - offset; }
@@ -60,9 +60,9 @@ using SensorType = DistanceScanner::SensorType;
 
 // A body a ray may hit, relative to the robot's axis.
 struct Candidate {
-  Vec2 center;    // of its footprint's bounding circle, from the robot's axis (m)
-  double bound;   // radius of that circle (m)
-  double near;    // distance from the axis to the circle (m)
+  Vec2 center;   // of its footprint's bounding circle, from the robot's axis (m)
+  double bound;  // radius of that circle (m)
+  double near;   // distance from the axis to the circle (m)
   uint32_t slot;
 };
 
@@ -90,7 +90,8 @@ class DistanceScannerSystem : public SensorSystem {
     scans_per_second_ = node.GetDouble("scans_per_second", 1.0, Range::Between(0.01, 2.0));
     curves_[0] = ReadRange(node, "short_range", kShortCurve);
     curves_[1] = ReadRange(node, "long_range", kLongCurve);
-    cos_max_incidence_ = std::cos(DegToRad(node.GetDouble("max_incidence", 70.0, Range::Between(0, 90))));
+    cos_max_incidence_ =
+        std::cos(DegToRad(node.GetDouble("max_incidence", 70.0, Range::Between(0, 90))));
     noise_ = NoiseModel::Read(node);
     // m samples per sensor per half turn, even so that the long-range
     // sensors (a quarter turn from the short ones) fall on the same bins.
@@ -123,7 +124,8 @@ class DistanceScannerSystem : public SensorSystem {
     // Every rotor started at angle 0 at time 0; one added later joins in phase.
     s.next_sample = SampleAt(sim().time()) + 1;
     s.first_sample = s.next_sample;
-    s.mutable_readings().reserve(kSensors * (static_cast<size_t>(sim().dt() * samples_per_second_) + 2));
+    s.mutable_readings().reserve(kSensors *
+                                 (static_cast<size_t>(sim().dt() * samples_per_second_) + 2));
     return &s;
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<DistanceScanner*>(s)); }
@@ -140,7 +142,7 @@ class DistanceScannerSystem : public SensorSystem {
     const Space& space = sim().space();
     const uint64_t last = SampleAt((sim().tick() + 1) * sim().dt());
     const int64_t quarter = per_half_turn_ / 2;  // bins in a quarter turn
-    std::vector<uint32_t> gathered;  // per chunk
+    std::vector<uint32_t> gathered;              // per chunk
     std::array<std::vector<Candidate>, kSensors> candidates;
     gathered.reserve(256);
     for (auto& v : candidates) v.reserve(256);
@@ -177,17 +179,20 @@ class DistanceScannerSystem : public SensorSystem {
         }
       } else {
         // A tick sweeps a quarter turn or more: one full circle for all.
-        const Wedge all{Vec2::Zero(), Vec2::Zero(), m.radius + std::max(curves_[0].max_range, curves_[1].max_range)};
+        const Wedge all{Vec2::Zero(), Vec2::Zero(),
+                        m.radius + std::max(curves_[0].max_range, curves_[1].max_range)};
         Collect(space, s.robot.index, c, z, all, gathered, candidates[0]);
         for (int j = 1; j < kSensors; ++j) candidates[j] = candidates[0];
       }
       int64_t rotor_bin = first_bin;
-      int64_t phase = static_cast<int64_t>(s.next_sample % per_half_turn_);  // sample's place in its half turn
+      int64_t phase =
+          static_cast<int64_t>(s.next_sample % per_half_turn_);  // sample's place in its half turn
       for (uint64_t sample = s.next_sample; sample <= last; ++sample) {
         for (int j = 0; j < kSensors; ++j) {
           const int64_t bin = bin_of(rotor_bin, j);
           const int type = j % 2;
-          const float distance = Measure(space, candidates[j], c, world(bin), m.radius, type, s.rng);
+          const float distance =
+              Measure(space, candidates[j], c, world(bin), m.radius, type, s.rng);
           s.filling[type][bin] = distance;
           s.mutable_readings().push_back(
               {bin_angle_[bin], distance, static_cast<uint8_t>(j), static_cast<SensorType>(type)});
@@ -229,8 +234,9 @@ class DistanceScannerSystem : public SensorSystem {
 
   // The bodies that can meet a ray of `wedge` (the robot's own excepted),
   // relative to the axis c, nearest first.
-  static void Collect(const Space& space, uint32_t self, const Vec2& c, double z, const Wedge& wedge,
-                      std::vector<uint32_t>& gathered, std::vector<Candidate>& out) {
+  static void Collect(const Space& space, uint32_t self, const Vec2& c, double z,
+                      const Wedge& wedge, std::vector<uint32_t>& gathered,
+                      std::vector<Candidate>& out) {
     // The wedge's bounding box: the apex, the two ends of the arc, and the
     // arc's extreme points along the axes that lie within it.
     Vec2 lo = c, hi = c;
@@ -266,8 +272,8 @@ class DistanceScannerSystem : public SensorSystem {
       // A disc meeting a ray at an angle within [u0, u1] lies at most its
       // radius clockwise of u0's line, ccw of u1's line and behind the
       // wedge's middle direction.
-      if (!wedge.whole() &&
-          (Cross(wedge.u0, rel) < -bound || Cross(rel, wedge.u1) < -bound || rel.dot(mid) < -bound)) {
+      if (!wedge.whole() && (Cross(wedge.u0, rel) < -bound || Cross(rel, wedge.u1) < -bound ||
+                             rel.dot(mid) < -bound)) {
         continue;
       }
       out.push_back({rel, bound, near, o});
@@ -280,13 +286,17 @@ class DistanceScannerSystem : public SensorSystem {
   static double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
   // The index of the last sample taken at or before time t.
-  uint64_t SampleAt(double t) const { return static_cast<uint64_t>(std::floor(t * samples_per_second_ + 1e-9)); }
+  uint64_t SampleAt(double t) const {
+    return static_cast<uint64_t>(std::floor(t * samples_per_second_ + 1e-9));
+  }
 
   static SharpCurve ReadRange(const ConfigNode& node, const char* attribute, SharpCurve curve) {
-    const auto range = node.GetPair(attribute, {curve.min_range, curve.max_range}, Range::Positive());
+    const auto range =
+        node.GetPair(attribute, {curve.min_range, curve.max_range}, Range::Positive());
     if (range[0] >= range[1]) {
       node.Error(attribute, node.GetString(attribute, ""),
-                 "the minimum range must be below the maximum; accepted: \"min,max\" with 0 < min < max (m)");
+                 "the minimum range must be below the maximum; accepted: \"min,max\" with 0 < min "
+                 "< max (m)");
       return curve;
     }
     curve.min_range = range[0];
@@ -296,8 +306,8 @@ class DistanceScannerSystem : public SensorSystem {
 
   // The distance (from the robot's axis) the robot computes for one ray along
   // `dir` from the point `radius` from the axis, or kNoReading.
-  float Measure(const Space& space, const std::vector<Candidate>& candidates, const Vec2& axis, const Vec2& dir,
-                double radius, int type, RandomStream& rng) const {
+  float Measure(const Space& space, const std::vector<Candidate>& candidates, const Vec2& axis,
+                const Vec2& dir, double radius, int type, RandomStream& rng) const {
     const SharpCurve& curve = curves_[type];
     const Vec2 origin = axis + radius * dir;
     const double reach = radius + curve.max_range;
@@ -308,7 +318,8 @@ class DistanceScannerSystem : public SensorSystem {
       // from the axis, i.e. k.near - radius along the ray.
       if (k.near > std::min(reach, radius + best)) break;
       // Cheap rejection by the bounding circle.
-      if (k.center.dot(dir) <= -k.bound || std::abs(k.center.x() * dir.y() - k.center.y() * dir.x()) >= k.bound) {
+      if (k.center.dot(dir) <= -k.bound ||
+          std::abs(k.center.x() * dir.y() - k.center.y() * dir.x()) >= k.bound) {
         continue;
       }
       const double t = RayFootprint(origin, dir, space.pose(k.slot), space.geometry(k.slot));
@@ -318,7 +329,8 @@ class DistanceScannerSystem : public SensorSystem {
       }
     }
     if (best > curve.max_range) return kNoReading;
-    if (-dir.dot(SurfaceNormal(space.pose(hit), space.geometry(hit), origin + best * dir, dir)) < cos_max_incidence_) {
+    if (-dir.dot(SurfaceNormal(space.pose(hit), space.geometry(hit), origin + best * dir, dir)) <
+        cos_max_incidence_) {
       return kNoReading;
     }
     const double voltage = curve.Voltage(best);
@@ -344,7 +356,8 @@ class DistanceScannerSystem : public SensorSystem {
     const double fx = std::abs(local.x()) / rect.half.x(), fy = std::abs(local.y()) / rect.half.y();
     if (std::max(fx, fy) < 1.0 - 1e-9) return -dir;
     // The face the point lies on, in the world frame.
-    const Vec2 n_local = fx >= fy ? Vec2(std::copysign(1.0, local.x()), 0) : Vec2(0, std::copysign(1.0, local.y()));
+    const Vec2 n_local =
+        fx >= fy ? Vec2(std::copysign(1.0, local.x()), 0) : Vec2(0, std::copysign(1.0, local.y()));
     return Vec2(rect.cos_yaw * n_local.x() - rect.sin_yaw * n_local.y(),
                 rect.sin_yaw * n_local.x() + rect.cos_yaw * n_local.y());
   }
@@ -355,15 +368,16 @@ class DistanceScannerSystem : public SensorSystem {
   NoiseModel noise_;
   int64_t per_half_turn_ = 60, bins_ = 120;
   double bin_width_ = 0, samples_per_second_ = 60;
-  std::vector<Vec2> rotor_;        // unit vector of the rotor at each bin
-  std::vector<float> bin_angle_;   // each bin's angle wrapped to (-pi, pi]
+  std::vector<Vec2> rotor_;       // unit vector of the rotor at each bin
+  std::vector<float> bin_angle_;  // each bin's angle wrapped to (-pi, pi]
   InstanceStore<ScannerInstance> instances_;
 };
 
 std::vector<AttributeDoc> ScannerAttributes() {
   std::vector<AttributeDoc> a = {
       {"scans_per_second", "a number in [0.01, 2]", "1",
-       "full 360-degree scans per second (half a rotor turn each); bins of 3 degrees x scans_per_second"},
+       "full 360-degree scans per second (half a rotor turn each); bins of 3 degrees x "
+       "scans_per_second"},
       {"short_range", "\"min,max\", 0 < min < max (m)", "0.04,0.3",
        "monotonic range of the two short-range sensors, from their faces"},
       {"long_range", "\"min,max\", 0 < min < max (m)", "0.2,1.5",
@@ -375,10 +389,11 @@ std::vector<AttributeDoc> ScannerAttributes() {
   return a;
 }
 
-COLONY_REGISTER_SENSOR(DistanceScannerSystem, "distance_scanner", "default",
-                       "rotating scanner of 4 Sharp IR sensors (2 short, 2 long range): (angle, distance) "
-                       "readings with each sensor's dead zone and folded response curve",
-                       ScannerAttributes());
+COLONY_REGISTER_SENSOR(
+    DistanceScannerSystem, "distance_scanner", "default",
+    "rotating scanner of 4 Sharp IR sensors (2 short, 2 long range): (angle, distance) "
+    "readings with each sensor's dead zone and folded response curve",
+    ScannerAttributes());
 
 }  // namespace
 }  // namespace colony

@@ -23,16 +23,20 @@ constexpr double kRotorRadius = 0.065;  // the sensors' faces, from the robot's 
 
 class ScannerProbe : public Controller {
  public:
-  void Init(const Params& params) override { sensor = &GetSensor<DistanceScanner>("distance_scanner"); }
+  void Init(const Params& params) override {
+    sensor = &GetSensor<DistanceScanner>("distance_scanner");
+  }
   void ControlStep() override { last = sensor->readings(); }
   const DistanceScanner* sensor = nullptr;
   std::vector<DistanceScanner::Reading> last;
 };
 
-COLONY_REGISTER_CONTROLLER(ScannerProbe, "scanner_probe", "test: records distance scanner readings");
+COLONY_REGISTER_CONTROLLER(ScannerProbe, "scanner_probe",
+                           "test: records distance scanner readings");
 
 std::string Controllers(const std::string& attributes = "") {
-  return "<scanner_probe id=\"sp\"><sensors><distance_scanner " + attributes + "/></sensors></scanner_probe>";
+  return "<scanner_probe id=\"sp\"><sensors><distance_scanner " + attributes +
+         "/></sensors></scanner_probe>";
 }
 
 std::string Robot(const std::string& id, const std::string& position, double yaw_degrees = 0) {
@@ -42,15 +46,16 @@ std::string Robot(const std::string& id, const std::string& position, double yaw
 
 // A fixed wall 3.8 m wide and 0.5 m high whose near face is the plane x = face.
 std::string WallAt(double face, const std::string& id = "wall") {
-  return "<box id=\"" + id + "\" size=\"0.1,3.8,0.5\" movable=\"false\"><body position=\"" + std::to_string(face + 0.05) +
-         ",0,0\"/></box>";
+  return "<box id=\"" + id + "\" size=\"0.1,3.8,0.5\" movable=\"false\"><body position=\"" +
+         std::to_string(face + 0.05) + ",0,0\"/></box>";
 }
 
 ScannerProbe& Probe(Simulation& sim, const std::string& robot) {
   return *dynamic_cast<ScannerProbe*>(sim.ControllerOf(sim.space().Find(robot)));
 }
 
-const std::vector<float>& Scan(Simulation& sim, const std::string& robot, DistanceScanner::SensorType type) {
+const std::vector<float>& Scan(Simulation& sim, const std::string& robot,
+                               DistanceScanner::SensorType type) {
   return Probe(sim, robot).sensor->scan(type);
 }
 
@@ -61,11 +66,13 @@ void StepTimes(Simulation& sim, int ticks) {
 TEST(DistanceScanner, OneScanEveryHalfTurnAtTheDeclaredSpeed) {
   // 10 ticks per second. A scan (half a rotor turn) takes 1 / scans_per_second.
   for (const double sps : {0.5, 1.0, 2.0}) {
-    auto sim = LoadXml(Experiment(Robot("r", "0,0,0"), Controllers("scans_per_second=\"" + std::to_string(sps) + "\"")));
+    auto sim = LoadXml(Experiment(Robot("r", "0,0,0"),
+                                  Controllers("scans_per_second=\"" + std::to_string(sps) + "\"")));
     const int ticks_per_scan = static_cast<int>(std::lround(10 / sps));
     const DistanceScanner& s = *Probe(*sim, "r").sensor;
     EXPECT_NEAR(s.bin_width(), DegToRad(3 * sps), 1e-12) << sps;
-    ASSERT_EQ(s.scan(DistanceScanner::kShortRange).size(), static_cast<size_t>(std::lround(120 / sps)));
+    ASSERT_EQ(s.scan(DistanceScanner::kShortRange).size(),
+              static_cast<size_t>(std::lround(120 / sps)));
     StepTimes(*sim, ticks_per_scan - 1);
     EXPECT_EQ(s.scans_completed(), 0u) << sps;
     // The rotor turned by pi x sps x t.
@@ -144,7 +151,8 @@ TEST(DistanceScanner, ObjectNearerThanTheShortMinimumReadsFartherAsTheCurveSays)
   EXPECT_NEAR(short_reads, 0.123943, 1e-6);
   EXPECT_NEAR(Scan(*sim, "r", DistanceScanner::kShortRange)[0], short_reads, 1e-6);
   // The long sensor: V / Vp = 0.2 + 0.8 x 0.025 / 0.2 = 0.3, read as 0.865 m.
-  EXPECT_NEAR(Scan(*sim, "r", DistanceScanner::kLongRange)[0], kRotorRadius + 0.285 / 0.3 - 0.085, 1e-6);
+  EXPECT_NEAR(Scan(*sim, "r", DistanceScanner::kLongRange)[0], kRotorRadius + 0.285 / 0.3 - 0.085,
+              1e-6);
   // Moved to 6 cm from the face (12.5 cm from the axis) it reads right.
   auto right = LoadXml(Experiment(Robot("r", "0,0,0") + WallAt(0.125), Controllers()));
   StepTimes(*right, 10);
@@ -172,7 +180,8 @@ TEST(DistanceScanner, BeyondRangeThereIsNoReading) {
   }
   {
     // Ranges can be narrowed: a 1 m long range misses the wall at 1.2 m.
-    auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + WallAt(1.2), Controllers("long_range=\"0.2,1\"")));
+    auto sim =
+        LoadXml(Experiment(Robot("r", "0,0,0") + WallAt(1.2), Controllers("long_range=\"0.2,1\"")));
     StepTimes(*sim, 10);
     EXPECT_EQ(Scan(*sim, "r", DistanceScanner::kLongRange)[0], kNone);
     auto wide = LoadXml(Experiment(Robot("r", "0,0,0") + WallAt(1.2), Controllers()));
@@ -182,7 +191,8 @@ TEST(DistanceScanner, BeyondRangeThereIsNoReading) {
 }
 
 TEST(DistanceScanner, ObliqueSurfacesReadAsHoles) {
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + WallAt(0.5), Controllers("max_incidence=\"30\"")));
+  auto sim =
+      LoadXml(Experiment(Robot("r", "0,0,0") + WallAt(0.5), Controllers("max_incidence=\"30\"")));
   StepTimes(*sim, 10);
   const auto& longs = Scan(*sim, "r", DistanceScanner::kLongRange);
   EXPECT_NEAR(longs[9], 0.5 / std::cos(DegToRad(27)), 1e-5);
@@ -192,9 +202,10 @@ TEST(DistanceScanner, ObliqueSurfacesReadAsHoles) {
 
 TEST(DistanceScanner, AnglesAreInTheRobotsFrame) {
   // Facing +y with a wall whose face is 0.5 m along +y: seen straight ahead.
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0", 90) +
-                                    "<box id=\"w\" size=\"2,0.1,0.5\" movable=\"false\"><body position=\"0,0.55,0\"/></box>",
-                                Controllers()));
+  auto sim = LoadXml(Experiment(
+      Robot("r", "0,0,0", 90) +
+          "<box id=\"w\" size=\"2,0.1,0.5\" movable=\"false\"><body position=\"0,0.55,0\"/></box>",
+      Controllers()));
   StepTimes(*sim, 10);
   const auto& longs = Scan(*sim, "r", DistanceScanner::kLongRange);
   EXPECT_NEAR(longs[0], 0.5, 1e-6);
@@ -205,10 +216,11 @@ TEST(DistanceScanner, AnglesAreInTheRobotsFrame) {
 TEST(DistanceScanner, SeesRobotsAndTallObjectsNotLowOnes) {
   // Another marXbot 0.4 m ahead (14.7 cm tall, spans the 9 cm plane); a 5 cm
   // box 0.5 m to the left (under the plane); a box hanging from 12 cm to the right.
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Robot("other", "0.4,0,0") +
-                                    "<box id=\"low\" size=\"0.1,0.1,0.05\"><body position=\"0,0.55,0\"/></box>"
-                                    "<box id=\"high\" size=\"0.1,0.1,0.2\"><body position=\"0,-0.55,0.12\"/></box>",
-                                Controllers()));
+  auto sim = LoadXml(Experiment(
+      Robot("r", "0,0,0") + Robot("other", "0.4,0,0") +
+          "<box id=\"low\" size=\"0.1,0.1,0.05\"><body position=\"0,0.55,0\"/></box>"
+          "<box id=\"high\" size=\"0.1,0.1,0.2\"><body position=\"0,-0.55,0.12\"/></box>",
+      Controllers()));
   StepTimes(*sim, 10);
   const auto& longs = Scan(*sim, "r", DistanceScanner::kLongRange);
   EXPECT_NEAR(longs[0], 0.4 - 0.085, 1e-6);
@@ -219,9 +231,10 @@ TEST(DistanceScanner, SeesRobotsAndTallObjectsNotLowOnes) {
 }
 
 TEST(DistanceScanner, ReadsTheSameInDynamics2d) {
-  if (!Registry<PhysicsEngine>::Get().Find("dynamics2d")) GTEST_SKIP() << "built without dynamics2d";
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + WallAt(0.5) + WallAt(-0.3 - 0.1, "behind"), Controllers(),
-                                "4,4,1", "", "<dynamics2d id=\"d2d\"/>"));
+  if (!Registry<PhysicsEngine>::Get().Find("dynamics2d"))
+    GTEST_SKIP() << "built without dynamics2d";
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + WallAt(0.5) + WallAt(-0.3 - 0.1, "behind"),
+                                Controllers(), "4,4,1", "", "<dynamics2d id=\"d2d\"/>"));
   StepTimes(*sim, 10);
   EXPECT_NEAR(Scan(*sim, "r", DistanceScanner::kLongRange)[0], 0.5, 1e-6);
   EXPECT_EQ(Scan(*sim, "r", DistanceScanner::kShortRange)[0], kNone);
@@ -293,12 +306,15 @@ TEST(DistanceScanner, NoiseOffIsExactNoiseOnHasTheDeclaredSpread) {
 }
 
 TEST(DistanceScanner, SameResultsWhateverTheThreadCount) {
-  std::string arena = "<walls thickness=\"0.1\" height=\"0.5\"/>"
-                      "<distribute><position method=\"uniform\" min=\"-3.5,-3.5,0\" max=\"3.5,3.5,0\"/>"
-                      "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
-                      "<entity quantity=\"300\"><marxbot id=\"mb\"><controller config=\"sp\"/></marxbot></entity>"
-                      "</distribute>";
-  const std::string xml = Experiment(arena, Controllers("noise=\"gaussian\" noise_std_dev=\"0.01\" drop_probability=\"0.1\""), "8,8,1");
+  std::string arena =
+      "<walls thickness=\"0.1\" height=\"0.5\"/>"
+      "<distribute><position method=\"uniform\" min=\"-3.5,-3.5,0\" max=\"3.5,3.5,0\"/>"
+      "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
+      "<entity quantity=\"300\"><marxbot id=\"mb\"><controller config=\"sp\"/></marxbot></entity>"
+      "</distribute>";
+  const std::string xml = Experiment(
+      arena, Controllers("noise=\"gaussian\" noise_std_dev=\"0.01\" drop_probability=\"0.1\""),
+      "8,8,1");
   std::vector<uint64_t> hashes;
   for (int threads : {0, 1, 2, 4}) {
     auto sim = LoadXml(xml, {}, threads);
@@ -311,24 +327,31 @@ TEST(DistanceScanner, SameResultsWhateverTheThreadCount) {
 TEST(DistanceScanner, BadAttributesAreReportedWithElementAndLine) {
   const std::string robot = Robot("r", "0,0,0");
   // The sensor's element on line 3 of the file.
-  const std::string fast = LoadError(Experiment(
-      robot, "<scanner_probe id=\"sp\">\n<sensors>\n<distance_scanner scans_per_second=\"3\"/></sensors></scanner_probe>"));
-  EXPECT_NE(fast.find("<string>:3: <distance_scanner> attribute 'scans_per_second': '3' is out of range; "
-                      "accepted: a number in [0.01, 2]"),
-            std::string::npos) << fast;
+  const std::string fast =
+      LoadError(Experiment(robot,
+                           "<scanner_probe id=\"sp\">\n<sensors>\n<distance_scanner "
+                           "scans_per_second=\"3\"/></sensors></scanner_probe>"));
+  EXPECT_NE(
+      fast.find("<string>:3: <distance_scanner> attribute 'scans_per_second': '3' is out of range; "
+                "accepted: a number in [0.01, 2]"),
+      std::string::npos)
+      << fast;
   const std::string zero = LoadError(Experiment(robot, Controllers("scans_per_second=\"0\"")));
   EXPECT_NE(zero.find("attribute 'scans_per_second'"), std::string::npos) << zero;
-  const std::string negative = LoadError(Experiment(robot, Controllers("short_range=\"-0.04,0.3\"")));
+  const std::string negative =
+      LoadError(Experiment(robot, Controllers("short_range=\"-0.04,0.3\"")));
   EXPECT_NE(negative.find("attribute 'short_range'"), std::string::npos) << negative;
   EXPECT_NE(negative.find("'-0.04,0.3' is out of range"), std::string::npos) << negative;
   const std::string swapped = LoadError(Experiment(robot, Controllers("long_range=\"1.5,0.2\"")));
   EXPECT_NE(swapped.find("attribute 'long_range'"), std::string::npos) << swapped;
-  EXPECT_NE(swapped.find("the minimum range must be below the maximum"), std::string::npos) << swapped;
+  EXPECT_NE(swapped.find("the minimum range must be below the maximum"), std::string::npos)
+      << swapped;
   const std::string single = LoadError(Experiment(robot, Controllers("long_range=\"1.5\"")));
   EXPECT_NE(single.find("is not two finite numbers"), std::string::npos) << single;
   const std::string incidence = LoadError(Experiment(robot, Controllers("max_incidence=\"100\"")));
   EXPECT_NE(incidence.find("attribute 'max_incidence'"), std::string::npos) << incidence;
-  const std::string model = LoadError(Experiment(robot, Controllers("noise=\"gausian\" noise_std_dev=\"0.1\"")));
+  const std::string model =
+      LoadError(Experiment(robot, Controllers("noise=\"gausian\" noise_std_dev=\"0.1\"")));
   EXPECT_NE(model.find("<distance_scanner>"), std::string::npos) << model;
   EXPECT_NE(model.find("attribute 'noise'"), std::string::npos) << model;
   EXPECT_NE(model.find("did you mean 'gaussian'"), std::string::npos) << model;
@@ -338,8 +361,9 @@ TEST(DistanceScanner, RegisteredAttributesMatchTheReadme) {
   const auto* entry = Registry<SensorSystem>::Get().Find("distance_scanner");
   ASSERT_NE(entry, nullptr);
   std::vector<std::string> registered = entry->info.AttributeNames();
-  EXPECT_EQ(registered, (std::vector<std::string>{"scans_per_second", "short_range", "long_range", "max_incidence",
-                                                  "noise", "noise_std_dev", "noise_range", "drop_probability"}));
+  EXPECT_EQ(registered, (std::vector<std::string>{"scans_per_second", "short_range", "long_range",
+                                                  "max_incidence", "noise", "noise_std_dev",
+                                                  "noise_range", "drop_probability"}));
   registered.push_back("implementation");
   EXPECT_EQ(testing::ReadmeAttributes("sensors/distance_scanner"), registered);
 }

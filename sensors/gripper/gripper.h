@@ -8,7 +8,9 @@ namespace colony {
 
 class GripperSensor : public Sensor {
  public:
-  double turret_angle() const { return turret_; }  // from the robot's front, counter-clockwise (rad)
+  double turret_angle() const {
+    return turret_;
+  }  // from the robot's front, counter-clockwise (rad)
   bool holding() const { return holding_; }
 
  protected:

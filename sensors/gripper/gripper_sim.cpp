@@ -18,7 +18,9 @@ struct GripperSensorInstance : GripperSensor, InstanceBase {
 class GripperSensorSystem : public SensorSystem {
  public:
   void Configure(const ConfigNode& node) override { (void)node; }
-  std::vector<std::string> NeededComponents() const override { return {GripperState::kComponentName}; }
+  std::vector<std::string> NeededComponents() const override {
+    return {GripperState::kComponentName};
+  }
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
     return &instances_.Add(robot, rng);
   }

@@ -12,7 +12,8 @@ namespace colony {
 class GroundSensor : public Sensor {
  public:
   struct Reading {
-    float value;  // grey level of the floor under the sensor: 0 black, 1 white; 0 over a hole (no ground)
+    float value;  // grey level of the floor under the sensor: 0 black, 1 white; 0 over a hole (no
+                  // ground)
     float angle;  // direction of the sensor from the robot's centre, robot frame (rad)
   };
   const std::vector<Reading>& readings() const { return readings_; }

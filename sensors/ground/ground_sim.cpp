@@ -22,8 +22,8 @@ constexpr double kSurfaceGap = 0.01;
 // What the sensor at (x, y), at height z, of robot `self` reads over ditch
 // `d`: the grey of the highest surface at most kSurfaceGap above z, if it is
 // at most kSurfaceGap below z; else 0. `near` is scratch.
-double GreyOverDitch(const Space& space, const Ditch& d, double x, double y, double z, uint32_t self,
-                     std::vector<uint32_t>& near) {
+double GreyOverDitch(const Space& space, const Ditch& d, double x, double y, double z,
+                     uint32_t self, std::vector<uint32_t>& near) {
   const double floor_z = space.arena_min().z();
   double top = floor_z - d.depth;  // the ditch's bottom
   double grey = space.floor().GreyAt(x, y);
@@ -53,7 +53,8 @@ struct GroundInstance : GroundSensor, InstanceBase {
 // before testing each sensor).
 bool NearDitch(const Floor& floor, double x, double y, double reach) {
   for (const Ditch& d : floor.ditches()) {
-    if (x > d.min_x - reach && x < d.max_x + reach && y > d.min_y - reach && y < d.max_y + reach) return true;
+    if (x > d.min_x - reach && x < d.max_x + reach && y > d.min_y - reach && y < d.max_y + reach)
+      return true;
   }
   return false;
 }
@@ -108,7 +109,8 @@ class GroundSystem : public SensorSystem {
       const double yaw = YawOf(pose.orientation);
       const double c = std::cos(yaw), s = std::sin(yaw);
       if constexpr (kDitches) {
-        if (NearDitch(floor, pose.position.x(), pose.position.y(), g.offsets.empty() ? 0 : g.offsets[0].norm())) {
+        if (NearDitch(floor, pose.position.x(), pose.position.y(),
+                      g.offsets.empty() ? 0 : g.offsets[0].norm())) {
           ReadNearDitch(g, pose, c, s, near);
           continue;
         }
@@ -139,8 +141,9 @@ class GroundSystem : public SensorSystem {
       const double x = pose.position.x() + c * o.x() - s * o.y();
       const double y = pose.position.y() + s * o.x() + c * o.y();
       const Ditch* ditch = floor.DitchAt(x, y);
-      double value = ditch ? GreyOverDitch(space, *ditch, x, y, pose.position.z(), g.robot.index, near)
-                           : floor.GreyAt(x, y);
+      double value =
+          ditch ? GreyOverDitch(space, *ditch, x, y, pose.position.z(), g.robot.index, near)
+                : floor.GreyAt(x, y);
       if (noise_.enabled()) {
         value = noise_.Drop(g.rng) ? 0.0 : std::clamp(noise_.Apply(value, g.rng), 0.0, 1.0);
       }
@@ -152,10 +155,11 @@ class GroundSystem : public SensorSystem {
   InstanceStore<GroundInstance> instances_;
 };
 
-COLONY_REGISTER_SENSOR(GroundSystem, "ground", "default",
-                       "downward sensors reading the floor's grey level (0 black .. 1 white) under each sensor; "
-                       "0 over a ditch unless something fills it up to the floor",
-                       NoiseModel::Attributes());
+COLONY_REGISTER_SENSOR(
+    GroundSystem, "ground", "default",
+    "downward sensors reading the floor's grey level (0 black .. 1 white) under each sensor; "
+    "0 over a ditch unless something fills it up to the floor",
+    NoiseModel::Attributes());
 
 }  // namespace
 }  // namespace colony

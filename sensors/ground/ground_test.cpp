@@ -3,10 +3,11 @@
 // floor colour or a PNG image stretched over the arena.
 #include "sensors/ground/ground.h"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <unistd.h>
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -152,7 +153,8 @@ TEST(Ground, FlatColoursReadTheirGreyLevel) {
   } cases[] = {{"black", 0.0}, {"white", 1.0}, {"gray50", 127 / 255.0}, {"255,0,0", 0.299}};
   for (const auto& c : cases) {
     auto sim = LoadXml(
-        Experiment("<floor color=\"" + std::string(c.color) + "\"/>" + Robot("r", "0.3,-0.2,0", 33), Controllers()));
+        Experiment("<floor color=\"" + std::string(c.color) + "\"/>" + Robot("r", "0.3,-0.2,0", 33),
+                   Controllers()));
     sim->Step();
     for (const auto& x : Readings(*sim, "r")) EXPECT_NEAR(x.value, c.grey, 1e-3) << c.color;
   }
@@ -170,10 +172,11 @@ TEST(Ground, ImageFloorIsReadUnderEachSensor) {
   // (max y) edge.
   const std::string path = TempPath("quadrants.png");
   WritePng(path, 2, 2, {0, 0, 0, 255, 255, 255, 255, 255, 255, 128, 128, 128});
-  auto sim = LoadXml(Experiment("<floor source=\"image\" path=\"" + path + "\"/>" + Robot("nw", "-1,1,0") +
-                                    Robot("ne", "1,1,0") + Robot("sw", "-1,-1,0") + Robot("se", "1,-1,0") +
-                                    Robot("edge", "0,1,0", 90),
-                                Controllers()));
+  auto sim =
+      LoadXml(Experiment("<floor source=\"image\" path=\"" + path + "\"/>" + Robot("nw", "-1,1,0") +
+                             Robot("ne", "1,1,0") + Robot("sw", "-1,-1,0") + Robot("se", "1,-1,0") +
+                             Robot("edge", "0,1,0", 90),
+                         Controllers()));
   sim->Step();
   for (const auto& x : Readings(*sim, "nw")) EXPECT_NEAR(x.value, 0.0, 1e-6);
   for (const auto& x : Readings(*sim, "ne")) EXPECT_NEAR(x.value, 1.0, 1e-6);
@@ -183,8 +186,10 @@ TEST(Ground, ImageFloorIsReadUnderEachSensor) {
   // sensors on its left (west) read black, those on its right white.
   const auto& edge = Readings(*sim, "edge");
   ASSERT_EQ(edge.size(), 8u);
-  for (int i : {1, 2, 3}) EXPECT_NEAR(edge[i].value, 0.0, 1e-6) << "sensor " << i;  // 45..135 degrees: west
-  for (int i : {5, 6, 7}) EXPECT_NEAR(edge[i].value, 1.0, 1e-6) << "sensor " << i;  // 225..315 degrees: east
+  for (int i : {1, 2, 3})
+    EXPECT_NEAR(edge[i].value, 0.0, 1e-6) << "sensor " << i;  // 45..135 degrees: west
+  for (int i : {5, 6, 7})
+    EXPECT_NEAR(edge[i].value, 1.0, 1e-6) << "sensor " << i;  // 225..315 degrees: east
   std::filesystem::remove(path);
 }
 
@@ -193,8 +198,8 @@ TEST(Ground, ReadingsFollowTheRobot) {
   // the black half into the white half between two ticks.
   const std::string path = TempPath("halves.png");
   WritePng(path, 2, 1, {0, 0, 0, 255, 255, 255});
-  auto sim = LoadXml(Experiment("<floor source=\"image\" path=\"" + path + "\"/>" + Robot("r", "-0.5,0,0"),
-                                Controllers()));
+  auto sim = LoadXml(Experiment(
+      "<floor source=\"image\" path=\"" + path + "\"/>" + Robot("r", "-0.5,0,0"), Controllers()));
   sim->Step();
   for (const auto& x : Readings(*sim, "r")) EXPECT_EQ(x.value, 0.0f);
   sim->space().pose(sim->space().Find("r").index).position.x() = 0.5;
@@ -205,10 +210,12 @@ TEST(Ground, ReadingsFollowTheRobot) {
 
 TEST(Ground, MissingImageIsReported) {
   const std::string message = LoadError(
-      Experiment("<floor source=\"image\" path=\"/nonexistent/floor.png\"/>" + Robot("r", "0,0,0"), Controllers()));
+      Experiment("<floor source=\"image\" path=\"/nonexistent/floor.png\"/>" + Robot("r", "0,0,0"),
+                 Controllers()));
   EXPECT_NE(message.find("attribute 'path'"), std::string::npos) << message;
   EXPECT_NE(message.find("/nonexistent/floor.png"), std::string::npos) << message;
-  const std::string no_path = LoadError(Experiment("<floor source=\"image\"/>" + Robot("r", "0,0,0"), Controllers()));
+  const std::string no_path =
+      LoadError(Experiment("<floor source=\"image\"/>" + Robot("r", "0,0,0"), Controllers()));
   EXPECT_NE(no_path.find("attribute 'path'"), std::string::npos) << no_path;
 }
 
@@ -232,7 +239,8 @@ TEST(Ground, NoiseIsReproducibleAndClamped) {
   }
   EXPECT_TRUE(changed);
   // On white, large noise is clamped at 1.
-  auto white = LoadXml(Experiment(Robot("r", "0,0,0"), Controllers("noise=\"uniform\" noise_range=\"0,0.5\"")));
+  auto white = LoadXml(
+      Experiment(Robot("r", "0,0,0"), Controllers("noise=\"uniform\" noise_range=\"0,0.5\"")));
   white->Step();
   for (const auto& x : Readings(*white, "r")) EXPECT_EQ(x.value, 1.0f);
 }
@@ -247,7 +255,8 @@ TEST(Ground, DroppedReadingsReadZero) {
 // solid fills the hole up to within 1 cm of the sensor's height.
 
 // A 3 x 3 cm ditch under the front sensor only (0.065 m ahead of the axis).
-const std::string kFrontDitch = "<floor color=\"gray50\"><ditch center=\"0.065,0\" size=\"0.03,0.03\" depth=\"0.06\"/></floor>";
+const std::string kFrontDitch =
+    "<floor color=\"gray50\"><ditch center=\"0.065,0\" size=\"0.03,0.03\" depth=\"0.06\"/></floor>";
 constexpr float kGray50 = 127 / 255.0f;
 
 void MoveTo(Simulation& sim, const std::string& id, double x, double y, double z) {
@@ -266,16 +275,18 @@ TEST(Ground, SensorOverADitchReadsNoGround) {
   MoveTo(*sim, "r", 0.13, 0, 0);
   sim->space().pose(sim->space().Find("r").index).orientation = FromEulerZYX(M_PI / 2, 0, 0);
   sim->Step();
-  for (int i = 0; i < 8; ++i) EXPECT_NEAR(r[i].value, i == 2 ? 0.0f : kGray50, 1e-6) << "sensor " << i;
+  for (int i = 0; i < 8; ++i)
+    EXPECT_NEAR(r[i].value, i == 2 ? 0.0f : kGray50, 1e-6) << "sensor " << i;
 }
 
 TEST(Ground, SomethingFillingTheDitchUpToTheFloorIsRead) {
   // A red box, put into the ditch under the front sensor after loading (the
   // loader does not place things below the floor).
-  auto sim = LoadXml(Experiment(kFrontDitch + Robot("r", "0,0,0") +
-                                    "<box id=\"b\" size=\"0.03,0.03,0.06\" movable=\"true\" color=\"255,0,0\">"
-                                    "<body position=\"1,1,0\"/></box>",
-                                Controllers()));
+  auto sim = LoadXml(
+      Experiment(kFrontDitch + Robot("r", "0,0,0") +
+                     "<box id=\"b\" size=\"0.03,0.03,0.06\" movable=\"true\" color=\"255,0,0\">"
+                     "<body position=\"1,1,0\"/></box>",
+                 Controllers()));
   const auto& r = Readings(*sim, "r");
   auto front_with_box_top_at = [&](double top) {
     MoveTo(*sim, "b", 0.065, 0, top - 0.06);
@@ -296,17 +307,20 @@ TEST(Ground, RobotDownInADitchReadsItsBottom) {
           Robot("r", "0,0,0"),
       Controllers()));
   sim->Step();
-  for (const auto& x : Readings(*sim, "r")) EXPECT_NEAR(x.value, kGray50, 1e-6) << "a ditch elsewhere changes nothing";
+  for (const auto& x : Readings(*sim, "r"))
+    EXPECT_NEAR(x.value, kGray50, 1e-6) << "a ditch elsewhere changes nothing";
   MoveTo(*sim, "r", 1, 1, 0);
   sim->Step();
   for (const auto& x : Readings(*sim, "r")) EXPECT_EQ(x.value, 0.0f) << "over the ditch";
   MoveTo(*sim, "r", 1, 1, -0.08);
   sim->Step();
-  for (const auto& x : Readings(*sim, "r")) EXPECT_NEAR(x.value, kGray50, 1e-6) << "on the ditch's bottom";
+  for (const auto& x : Readings(*sim, "r"))
+    EXPECT_NEAR(x.value, kGray50, 1e-6) << "on the ditch's bottom";
 }
 
 TEST(Ground, NoGroundWithNoiseStaysInRange) {
-  auto sim = LoadXml(Experiment(kFrontDitch + Robot("r", "0,0,0"), Controllers("noise=\"uniform\" noise_range=\"-0.1,0\"")));
+  auto sim = LoadXml(Experiment(kFrontDitch + Robot("r", "0,0,0"),
+                                Controllers("noise=\"uniform\" noise_range=\"-0.1,0\"")));
   for (int t = 0; t < 5; ++t) {
     sim->Step();
     EXPECT_EQ(Readings(*sim, "r")[0].value, 0.0f) << "0 minus noise is clamped at 0";
@@ -317,12 +331,14 @@ TEST(Ground, RegisteredAttributesMatchTheReadme) {
   const auto* entry = Registry<SensorSystem>::Get().Find("ground");
   ASSERT_NE(entry, nullptr);
   const std::vector<std::string> registered = entry->info.AttributeNames();
-  EXPECT_EQ(registered, (std::vector<std::string>{"noise", "noise_std_dev", "noise_range", "drop_probability"}));
+  EXPECT_EQ(registered, (std::vector<std::string>{"noise", "noise_std_dev", "noise_range",
+                                                  "drop_probability"}));
   // The README's table also lists `implementation`, which every device takes.
   const std::string text = testing::ReadFile(COLONY_SOURCE_DIR "/sensors/ground/README.md");
   std::vector<std::string> documented;
   const std::regex row(R"(\n\| `([a-z_]+)` \|)");
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), row); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), row); it != std::sregex_iterator();
+       ++it) {
     if ((*it)[1] != "implementation") documented.push_back((*it)[1]);
   }
   EXPECT_EQ(documented, registered);

@@ -22,8 +22,12 @@ struct ArmsSensorInstance : HandbotArmsSensor, InstanceBase {
 class HandbotArmsSensorSystem : public SensorSystem {
  public:
   void Configure(const ConfigNode& node) override { noise_ = NoiseModel::Read(node); }
-  std::vector<std::string> NeededComponents() const override { return {HandbotArmsState::kComponentName}; }
-  Sensor* Attach(EntityHandle robot, const RandomStream& rng) override { return &instances_.Add(robot, rng); }
+  std::vector<std::string> NeededComponents() const override {
+    return {HandbotArmsState::kComponentName};
+  }
+  Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
+    return &instances_.Add(robot, rng);
+  }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<HandbotArmsSensor*>(s)); }
   size_t size() const override { return instances_.size(); }
   void Update(size_t begin, size_t end) override {
@@ -54,9 +58,10 @@ class HandbotArmsSensorSystem : public SensorSystem {
   InstanceStore<ArmsSensorInstance> instances_;
 };
 
-COLONY_REGISTER_SENSOR(HandbotArmsSensorSystem, "handbot_arms", "default",
-                       "the hand-bot's arms: extension of each (rad), speed (rad/s), motor torque (N m), stalled",
-                       NoiseModel::Attributes(false));
+COLONY_REGISTER_SENSOR(
+    HandbotArmsSensorSystem, "handbot_arms", "default",
+    "the hand-bot's arms: extension of each (rad), speed (rad/s), motor torque (N m), stalled",
+    NoiseModel::Attributes(false));
 
 }  // namespace
 }  // namespace colony

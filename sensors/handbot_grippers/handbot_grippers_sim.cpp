@@ -24,8 +24,12 @@ struct GrippersSensorInstance : HandbotGrippersSensor, InstanceBase {
 class HandbotGrippersSensorSystem : public SensorSystem {
  public:
   void Configure(const ConfigNode& node) override { noise_ = NoiseModel::Read(node); }
-  std::vector<std::string> NeededComponents() const override { return {HandbotArmsState::kComponentName}; }
-  Sensor* Attach(EntityHandle robot, const RandomStream& rng) override { return &instances_.Add(robot, rng); }
+  std::vector<std::string> NeededComponents() const override {
+    return {HandbotArmsState::kComponentName};
+  }
+  Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
+    return &instances_.Add(robot, rng);
+  }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<HandbotGrippersSensor*>(s)); }
   size_t size() const override { return instances_.size(); }
   void Update(size_t begin, size_t end) override {
@@ -36,7 +40,8 @@ class HandbotGrippersSensorSystem : public SensorSystem {
       const HandbotArmsState& arms = *space.Get<HandbotArmsState>(s.robot.index);
       for (int k = 0; k < 2; ++k) {
         const HandbotJoint& wrist = arms.wrist[k];
-        s.Set(k, wrist, noise_.enabled() ? noise_.Apply(wrist.torque, s.rng) : wrist.torque, arms.claws[k]);
+        s.Set(k, wrist, noise_.enabled() ? noise_.Apply(wrist.torque, s.rng) : wrist.torque,
+              arms.claws[k]);
       }
     }
   }
@@ -56,10 +61,11 @@ class HandbotGrippersSensorSystem : public SensorSystem {
   InstanceStore<GrippersSensorInstance> instances_;
 };
 
-COLONY_REGISTER_SENSOR(HandbotGrippersSensorSystem, "handbot_grippers", "default",
-                       "the hand-bot's grippers: rotation of each about its arm (rad), its motor torque (N m), "
-                       "stalled, claws' aperture (rad), holding",
-                       NoiseModel::Attributes(false));
+COLONY_REGISTER_SENSOR(
+    HandbotGrippersSensorSystem, "handbot_grippers", "default",
+    "the hand-bot's grippers: rotation of each about its arm (rad), its motor torque (N m), "
+    "stalled, claws' aperture (rad), holding",
+    NoiseModel::Attributes(false));
 
 }  // namespace
 }  // namespace colony

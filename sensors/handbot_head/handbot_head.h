@@ -10,7 +10,9 @@ class HandbotHeadSensor : public Sensor {
  public:
   double rotation() const { return rotation_; }  // rad, in (-pi, pi]
   double velocity() const { return velocity_; }  // rad/s
-  double torque() const { return torque_; }      // N m, the motor's, averaged over the tick (noise may be added)
+  double torque() const {
+    return torque_;
+  }  // N m, the motor's, averaged over the tick (noise may be added)
   // The motor gives about its stall torque and the head does not move
   // towards its target.
   bool stalled() const { return stalled_; }

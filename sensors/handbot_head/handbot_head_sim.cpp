@@ -22,8 +22,12 @@ struct HeadSensorInstance : HandbotHeadSensor, InstanceBase {
 class HandbotHeadSensorSystem : public SensorSystem {
  public:
   void Configure(const ConfigNode& node) override { noise_ = NoiseModel::Read(node); }
-  std::vector<std::string> NeededComponents() const override { return {HandbotArmsState::kComponentName}; }
-  Sensor* Attach(EntityHandle robot, const RandomStream& rng) override { return &instances_.Add(robot, rng); }
+  std::vector<std::string> NeededComponents() const override {
+    return {HandbotArmsState::kComponentName};
+  }
+  Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
+    return &instances_.Add(robot, rng);
+  }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<HandbotHeadSensor*>(s)); }
   size_t size() const override { return instances_.size(); }
   void Update(size_t begin, size_t end) override {
@@ -49,9 +53,10 @@ class HandbotHeadSensorSystem : public SensorSystem {
   InstanceStore<HeadSensorInstance> instances_;
 };
 
-COLONY_REGISTER_SENSOR(HandbotHeadSensorSystem, "handbot_head", "default",
-                       "the hand-bot's head: rotation (rad), speed (rad/s), motor torque (N m), stalled",
-                       NoiseModel::Attributes(false));
+COLONY_REGISTER_SENSOR(
+    HandbotHeadSensorSystem, "handbot_head", "default",
+    "the hand-bot's head: rotation (rad), speed (rad/s), motor torque (N m), stalled",
+    NoiseModel::Attributes(false));
 
 }  // namespace
 }  // namespace colony

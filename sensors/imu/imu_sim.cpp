@@ -69,13 +69,15 @@ class ImuSystem : public SensorSystem {
   InstanceStore<ImuInstance> instances_;
 };
 
-COLONY_REGISTER_SENSOR(ImuSystem, "imu", "default",
-                       "gyroscope (rad/s) and accelerometer (m/s^2, gravity included) in the robot's frame",
-                       (std::vector<AttributeDoc>{
-                           {"gyro_noise_std_dev", "a number >= 0 (rad/s)", "0", "gaussian noise on each gyroscope axis"},
-                           {"accel_noise_std_dev", "a number >= 0 (m/s^2)", "0",
-                            "gaussian noise on each accelerometer axis"},
-                       }));
+COLONY_REGISTER_SENSOR(
+    ImuSystem, "imu", "default",
+    "gyroscope (rad/s) and accelerometer (m/s^2, gravity included) in the robot's frame",
+    (std::vector<AttributeDoc>{
+        {"gyro_noise_std_dev", "a number >= 0 (rad/s)", "0",
+         "gaussian noise on each gyroscope axis"},
+        {"accel_noise_std_dev", "a number >= 0 (m/s^2)", "0",
+         "gaussian noise on each accelerometer axis"},
+    }));
 
 }  // namespace
 }  // namespace colony

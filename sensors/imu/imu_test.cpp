@@ -1,7 +1,8 @@
 // IMU: what a gyroscope and an accelerometer on a marXbot would read.
+#include "sensors/imu/imu.h"
+
 #include "actuators/differential_steering/differential_steering.h"
 #include "core/engine.h"
-#include "sensors/imu/imu.h"
 #include "tests/test_util.h"
 
 namespace colony {
@@ -22,14 +23,19 @@ class ImuProbe : public Controller {
 };
 COLONY_REGISTER_CONTROLLER(ImuProbe, "imu_probe", "test: reads the IMU");
 
-std::unique_ptr<Simulation> Scene(const std::string& imu_attributes = "", const std::string& heading = "0") {
+std::unique_ptr<Simulation> Scene(const std::string& imu_attributes = "",
+                                  const std::string& heading = "0") {
   return testing::LoadXml(testing::Experiment(
-      "<marxbot id=\"r\"><body position=\"0,0,0\" orientation=\"" + heading + ",0,0\"/><controller config=\"p\"/></marxbot>",
+      "<marxbot id=\"r\"><body position=\"0,0,0\" orientation=\"" + heading +
+          ",0,0\"/><controller config=\"p\"/></marxbot>",
       "<imu_probe id=\"p\"><actuators><differential_steering max_acceleration=\"0.5\"/></actuators>"
-      "<sensors><imu " + imu_attributes + "/></sensors></imu_probe>"));
+      "<sensors><imu " +
+          imu_attributes + "/></sensors></imu_probe>"));
 }
 
-ImuProbe& Probe(Simulation& sim) { return dynamic_cast<ImuProbe&>(*sim.ControllerOf(sim.space().Find("r"))); }
+ImuProbe& Probe(Simulation& sim) {
+  return dynamic_cast<ImuProbe&>(*sim.ControllerOf(sim.space().Find("r")));
+}
 
 TEST(Imu, AtRestFeelsOnlyGravity) {
   auto sim = Scene();
@@ -71,10 +77,13 @@ TEST(Imu, GyroscopeReadsTheTurnRate) {
 // In 3D the IMU reads what ODE makes of the body: resting on its treels,
 // then turning on the spot.
 TEST(Imu, ReadsTheBodyInDynamics3d) {
-  if (!Registry<PhysicsEngine>::Get().Find("dynamics3d")) GTEST_SKIP() << "built without dynamics3d";
+  if (!Registry<PhysicsEngine>::Get().Find("dynamics3d"))
+    GTEST_SKIP() << "built without dynamics3d";
   auto sim = testing::LoadXml(testing::Experiment(
       "<marxbot id=\"r\"><body position=\"0,0,0\"/><controller config=\"p\"/></marxbot>",
-      "<imu_probe id=\"p\"><actuators><differential_steering/></actuators><sensors><imu/></sensors></imu_probe>",
+      "<imu_probe "
+      "id=\"p\"><actuators><differential_steering/></actuators><sensors><imu/></sensors></"
+      "imu_probe>",
       "4,4,1", "", "<dynamics3d id=\"d3d\"/>"));
   ImuProbe& probe = Probe(*sim);
   for (int t = 0; t < 20; ++t) sim->Step();
@@ -87,7 +96,6 @@ TEST(Imu, ReadsTheBodyInDynamics3d) {
   EXPECT_NEAR(probe.imu->angular_velocity()[2], 1.0, 0.1);
   EXPECT_NEAR(probe.imu->acceleration()[2], 9.81, 0.2);
 }
-
 
 TEST(Imu, NoiseHasTheDeclaredSpread) {
   auto sim = Scene("gyro_noise_std_dev=\"0.01\" accel_noise_std_dev=\"0.1\"");
@@ -108,8 +116,10 @@ TEST(Imu, NegativeNoiseIsRejected) {
     Scene("gyro_noise_std_dev=\"-1\"");
     FAIL();
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("<imu> attribute 'gyro_noise_std_dev': '-1' is out of range"),
-              std::string::npos) << e.what();
+    EXPECT_NE(
+        std::string(e.what()).find("<imu> attribute 'gyro_noise_std_dev': '-1' is out of range"),
+        std::string::npos)
+        << e.what();
   }
 }
 

@@ -6,8 +6,6 @@
 // summed over the lights it sees, then noise is added and the value clamped to
 // [0, 1]. A light hidden behind a solid body (checked along the straight
 // line from the ring to the light) contributes nothing.
-#include "sensors/light/light.h"
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -21,6 +19,7 @@
 #include "core/entity_type.h"
 #include "core/geometry2d.h"
 #include "core/simulation.h"
+#include "sensors/light/light.h"
 
 namespace colony {
 namespace {
@@ -136,7 +135,9 @@ class LightSystem : public SensorSystem {
         scene_.lights.clear();
         scene_.tall.clear();
         scene_.max_top = scene_.max_movable_top = -std::numeric_limits<double>::infinity();
-        auto top = [&](uint32_t i) { return space.pose(i).position.z() + space.geometry(i).height(); };
+        auto top = [&](uint32_t i) {
+          return space.pose(i).position.z() + space.geometry(i).height();
+        };
         for (uint32_t i = 0; i < space.slots(); ++i) {
           if (!space.alive(i)) continue;
           if (const LightSource* light = space.light(i)) {
@@ -147,7 +148,8 @@ class LightSystem : public SensorSystem {
           if (space.movable(i)) scene_.max_movable_top = std::max(scene_.max_movable_top, top(i));
         }
         for (uint32_t i = 0; i < space.slots(); ++i) {
-          if (space.alive(i) && (space.flags(i) & kSolid) && !space.movable(i) && top(i) > scene_.max_movable_top) {
+          if (space.alive(i) && (space.flags(i) & kSolid) && !space.movable(i) &&
+              top(i) > scene_.max_movable_top) {
             scene_.tall.push_back(i);
           }
         }
@@ -164,8 +166,8 @@ class LightSystem : public SensorSystem {
   // piece's neighbours are gathered from the spatial index, so a check costs
   // what lies along the line and stops at the first body found. Higher up,
   // only the few tall fixed bodies can cut it: they are tested directly.
-  bool Occluded(const Space& space, uint32_t self, const Vec3& from, const Vec3& to, const LightScene& scene,
-                std::vector<uint32_t>& near) const {
+  bool Occluded(const Space& space, uint32_t self, const Vec3& from, const Vec3& to,
+                const LightScene& scene, std::vector<uint32_t>& near) const {
     const Vec2 a = from.head<2>(), b = to.head<2>();
     const double length = (b - a).norm();
     const Vec2 u = (b - a) / length;
@@ -225,16 +227,18 @@ class LightSystem : public SensorSystem {
 };
 
 std::vector<AttributeDoc> LightAttributes() {
-  std::vector<AttributeDoc> a = {{"check_occlusions", "true, false", "true",
-                                  "lights hidden behind solid bodies are not seen (false: faster, sees through)"}};
+  std::vector<AttributeDoc> a = {
+      {"check_occlusions", "true, false", "true",
+       "lights hidden behind solid bodies are not seen (false: faster, sees through)"}};
   for (auto& n : NoiseModel::Attributes()) a.push_back(n);
   return a;
 }
 
-COLONY_REGISTER_SENSOR(LightSystem, "light", "default",
-                       "ring of light sensors: per sensor, the sum over visible lights of "
-                       "intensity / (1 + d^2) x cos(angle to the light) within +-90 degrees, in [0, 1]",
-                       LightAttributes());
+COLONY_REGISTER_SENSOR(
+    LightSystem, "light", "default",
+    "ring of light sensors: per sensor, the sum over visible lights of "
+    "intensity / (1 + d^2) x cos(angle to the light) within +-90 degrees, in [0, 1]",
+    LightAttributes());
 
 }  // namespace
 }  // namespace colony

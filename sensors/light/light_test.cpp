@@ -41,12 +41,13 @@ std::string Robot(const std::string& id, const std::string& position, double yaw
 }
 
 std::string Light(const std::string& id, const std::string& position, double intensity = 1) {
-  return "<light id=\"" + id + "\" position=\"" + position + "\" intensity=\"" + std::to_string(intensity) + "\"/>";
+  return "<light id=\"" + id + "\" position=\"" + position + "\" intensity=\"" +
+         std::to_string(intensity) + "\"/>";
 }
 
 std::string Box(const std::string& id, const std::string& size, const std::string& position) {
-  return "<box id=\"" + id + "\" size=\"" + size + "\" movable=\"false\"><body position=\"" + position +
-         "\"/></box>";
+  return "<box id=\"" + id + "\" size=\"" + size + "\" movable=\"false\"><body position=\"" +
+         position + "\"/></box>";
 }
 
 const std::vector<LightSensor::Reading>& Readings(Simulation& sim, const std::string& robot) {
@@ -116,8 +117,9 @@ TEST(Light, ReadingsFollowTheRobotsHeading) {
 TEST(Light, ReadingsFallWithDistance) {
   std::vector<float> front;
   for (double d : {0.5, 1.0, 2.0, 3.0}) {
-    auto sim = LoadXml(Experiment(Robot("r", "-1.5,0,0") + Light("l", std::to_string(-1.5 + d) + ",0,0.06"),
-                                  Controllers(), "8,8,2"));
+    auto sim = LoadXml(
+        Experiment(Robot("r", "-1.5,0,0") + Light("l", std::to_string(-1.5 + d) + ",0,0.06"),
+                   Controllers(), "8,8,2"));
     sim->Step();
     front.push_back(Readings(*sim, "r")[0].value);
     EXPECT_NEAR(front.back(), Expected(d, 7.5), 1e-6) << "distance " << d;
@@ -127,20 +129,23 @@ TEST(Light, ReadingsFallWithDistance) {
 
 TEST(Light, DistanceCountsTheLightsHeight) {
   // 1 m ahead and 1 m above the ring: d^2 = 2, bearing still straight ahead.
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Light("l", "1,0,1.06"), Controllers(), "4,4,3"));
+  auto sim =
+      LoadXml(Experiment(Robot("r", "0,0,0") + Light("l", "1,0,1.06"), Controllers(), "4,4,3"));
   sim->Step();
   EXPECT_NEAR(Readings(*sim, "r")[0].value, 1.0 / 3.0 * std::cos(DegToRad(7.5)), 1e-6);
 }
 
 TEST(Light, IntensityScalesAndLightsAddUpToAtMostOne) {
   {
-    auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Light("l", "1,0,0.06", 1.5), Controllers()));
+    auto sim =
+        LoadXml(Experiment(Robot("r", "0,0,0") + Light("l", "1,0,0.06", 1.5), Controllers()));
     sim->Step();
     EXPECT_NEAR(Readings(*sim, "r")[0].value, Expected(1.0, 7.5, 1.5), 1e-6);
   }
   {
     // One light ahead, one on the left: sensor 5 (82.5 degrees) sees both.
-    auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Light("a", "1,0,0.06") + Light("b", "0,1,0.06"), Controllers()));
+    auto sim = LoadXml(Experiment(
+        Robot("r", "0,0,0") + Light("a", "1,0,0.06") + Light("b", "0,1,0.06"), Controllers()));
     sim->Step();
     const auto& r = Readings(*sim, "r");
     EXPECT_NEAR(r[5].value, Expected(1.0, 82.5) + Expected(1.0, 7.5), 1e-6);
@@ -149,7 +154,8 @@ TEST(Light, IntensityScalesAndLightsAddUpToAtMostOne) {
   }
   {
     // A strong light close by saturates the sensors facing it at 1.
-    auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Light("l", "0.3,0,0.06", 5), Controllers()));
+    auto sim =
+        LoadXml(Experiment(Robot("r", "0,0,0") + Light("l", "0.3,0,0.06", 5), Controllers()));
     sim->Step();
     const auto& r = Readings(*sim, "r");
     EXPECT_EQ(r[0].value, 1.0f);
@@ -159,7 +165,8 @@ TEST(Light, IntensityScalesAndLightsAddUpToAtMostOne) {
 }
 
 TEST(Light, LightBehindAWallReadsZeroWithOcclusionsChecked) {
-  const std::string arena = Robot("r", "0,0,0") + Light("l", "1,0,0.06") + Box("wall", "0.1,1,0.5", "0.5,0,0");
+  const std::string arena =
+      Robot("r", "0,0,0") + Light("l", "1,0,0.06") + Box("wall", "0.1,1,0.5", "0.5,0,0");
   {
     auto sim = LoadXml(Experiment(arena, Controllers()));
     sim->Step();
@@ -175,8 +182,8 @@ TEST(Light, LightBehindAWallReadsZeroWithOcclusionsChecked) {
 TEST(Light, OtherRobotsHideALightButLowBoxesAndHighLightsPassOver) {
   {
     // Another marXbot (14.7 cm tall) halfway: the light at ring height is hidden.
-    auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Robot("other", "0.5,0,0") + Light("l", "1,0,0.06"),
-                                  Controllers()));
+    auto sim = LoadXml(Experiment(
+        Robot("r", "0,0,0") + Robot("other", "0.5,0,0") + Light("l", "1,0,0.06"), Controllers()));
     sim->Step();
     EXPECT_EQ(MaxOf(Readings(*sim, "r")), 0.0f);
     // The other robot sees it (its own body does not hide it).
@@ -184,8 +191,9 @@ TEST(Light, OtherRobotsHideALightButLowBoxesAndHighLightsPassOver) {
   }
   {
     // A 3 cm box is below the line from the ring (6 cm) to the light.
-    auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Light("l", "1,0,0.06") + Box("low", "0.1,1,0.03", "0.5,0,0"),
-                                  Controllers()));
+    auto sim = LoadXml(Experiment(
+        Robot("r", "0,0,0") + Light("l", "1,0,0.06") + Box("low", "0.1,1,0.03", "0.5,0,0"),
+        Controllers()));
     sim->Step();
     EXPECT_NEAR(Readings(*sim, "r")[0].value, Expected(1.0, 7.5), 1e-6);
   }
@@ -193,18 +201,21 @@ TEST(Light, OtherRobotsHideALightButLowBoxesAndHighLightsPassOver) {
     // A 20 cm wall 0.5 m ahead hides a light 2 m ahead at 30 cm, not one at 2 m
     // high (the line passes the wall at about 0.5 m).
     const std::string wall = Box("wall", "0.1,1,0.2", "0.5,0,0");
-    auto low = LoadXml(Experiment(Robot("r", "0,0,0") + wall + Light("l", "2,0,0.3"), Controllers(), "6,6,3"));
+    auto low = LoadXml(
+        Experiment(Robot("r", "0,0,0") + wall + Light("l", "2,0,0.3"), Controllers(), "6,6,3"));
     low->Step();
     EXPECT_EQ(MaxOf(Readings(*low, "r")), 0.0f);
-    auto high = LoadXml(Experiment(Robot("r", "0,0,0") + wall + Light("l", "2,0,2"), Controllers(), "6,6,3"));
+    auto high = LoadXml(
+        Experiment(Robot("r", "0,0,0") + wall + Light("l", "2,0,2"), Controllers(), "6,6,3"));
     high->Step();
     const double d2 = 4 + 1.94 * 1.94;
     EXPECT_NEAR(Readings(*high, "r")[0].value, 1 / (1 + d2) * std::cos(DegToRad(7.5)), 1e-6);
   }
   {
     // A wall beside the line, not across it, hides nothing.
-    auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Light("l", "1,0,0.06") + Box("side", "1,0.1,0.5", "0.5,0.3,0"),
-                                  Controllers()));
+    auto sim = LoadXml(Experiment(
+        Robot("r", "0,0,0") + Light("l", "1,0,0.06") + Box("side", "1,0.1,0.5", "0.5,0.3,0"),
+        Controllers()));
     sim->Step();
     EXPECT_NEAR(Readings(*sim, "r")[0].value, Expected(1.0, 7.5), 1e-6);
   }
@@ -216,35 +227,41 @@ TEST(Light, TallWallsHideLightsAboveTheRobotsWhateverTheirNumber) {
   // than are tested one by one) must not change the answer.
   std::string pillars;
   for (int i = 0; i < 70; ++i) {
-    pillars += "<cylinder id=\"p" + std::to_string(i) + "\" radius=\"0.02\" height=\"1.5\" movable=\"false\"><body position=\"" +
+    pillars += "<cylinder id=\"p" + std::to_string(i) +
+               "\" radius=\"0.02\" height=\"1.5\" movable=\"false\"><body position=\"" +
                std::to_string(-2.8 + 0.08 * i) + ",-2.5,0\"/></cylinder>";
   }
   const std::string wall = Box("wall", "0.1,1,1", "1,0,0");
   const std::string light = Light("l", "2,0,2");
   const double clear = 1 / (1 + 4 + 1.94 * 1.94) * std::cos(DegToRad(7.5));
   for (const std::string& extra : {std::string(), pillars}) {
-    auto hidden = LoadXml(Experiment(Robot("r", "0,0,0") + light + wall + extra, Controllers(), "6,6,3"));
+    auto hidden =
+        LoadXml(Experiment(Robot("r", "0,0,0") + light + wall + extra, Controllers(), "6,6,3"));
     hidden->Step();
-    EXPECT_EQ(MaxOf(Readings(*hidden, "r")), 0.0f) << (extra.empty() ? "few tall bodies" : "many tall bodies");
+    EXPECT_EQ(MaxOf(Readings(*hidden, "r")), 0.0f)
+        << (extra.empty() ? "few tall bodies" : "many tall bodies");
     auto seen = LoadXml(Experiment(Robot("r", "0,0,0") + light + extra, Controllers(), "6,6,3"));
     seen->Step();
-    EXPECT_NEAR(Readings(*seen, "r")[0].value, clear, 1e-6) << (extra.empty() ? "few tall bodies" : "many tall bodies");
+    EXPECT_NEAR(Readings(*seen, "r")[0].value, clear, 1e-6)
+        << (extra.empty() ? "few tall bodies" : "many tall bodies");
   }
 }
 
 TEST(Light, LongLinesAcrossManyGridCellsAreChecked) {
   // 7 m to the light, past a thin pole near the light: the line crosses a
   // dozen grid cells before meeting it. From 1 m aside, the line misses it.
-  const std::string arena = Robot("r", "-3.5,0,0") + Light("l", "3.5,0,0.06") +
-                            "<cylinder id=\"pole\" radius=\"0.02\" height=\"1\" movable=\"false\"><body "
-                            "position=\"3,0,0\"/></cylinder>";
+  const std::string arena =
+      Robot("r", "-3.5,0,0") + Light("l", "3.5,0,0.06") +
+      "<cylinder id=\"pole\" radius=\"0.02\" height=\"1\" movable=\"false\"><body "
+      "position=\"3,0,0\"/></cylinder>";
   auto sim = LoadXml(Experiment(arena, Controllers(), "8,8,2"));
   sim->Step();
   EXPECT_EQ(MaxOf(Readings(*sim, "r")), 0.0f);
-  auto moved = LoadXml(Experiment(Robot("r", "-3.5,1,0") + Light("l", "3.5,0,0.06") +
-                                      "<cylinder id=\"pole\" radius=\"0.02\" height=\"1\" movable=\"false\"><body "
-                                      "position=\"3,0,0\"/></cylinder>",
-                                  Controllers(), "8,8,2"));
+  auto moved = LoadXml(
+      Experiment(Robot("r", "-3.5,1,0") + Light("l", "3.5,0,0.06") +
+                     "<cylinder id=\"pole\" radius=\"0.02\" height=\"1\" movable=\"false\"><body "
+                     "position=\"3,0,0\"/></cylinder>",
+                 Controllers(), "8,8,2"));
   moved->Step();
   EXPECT_GT(Readings(*moved, "r")[0].value, 0.01f);
 }
@@ -263,9 +280,11 @@ TEST(Light, LightsAddedAtRunTimeAreSeenFromTheNextTick) {
 
 // Mean and standard deviation of the four front sensors' noisy readings minus
 // their clean values, over `ticks` ticks.
-std::pair<double, double> NoiseStats(const std::string& attributes, int ticks, double* lowest_offset = nullptr,
+std::pair<double, double> NoiseStats(const std::string& attributes, int ticks,
+                                     double* lowest_offset = nullptr,
                                      double* highest_offset = nullptr, int* zeros = nullptr) {
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Light("l", "1,0,0.06"), Controllers(attributes)));
+  auto sim =
+      LoadXml(Experiment(Robot("r", "0,0,0") + Light("l", "1,0,0.06"), Controllers(attributes)));
   const int sensors[] = {0, 1, 22, 23};
   double sum = 0, sum2 = 0;
   int n = 0;
@@ -313,11 +332,15 @@ TEST(Light, DroppedReadingsReadZero) {
 }
 
 TEST(Light, NoiseIsReproducibleAndIndependentOfThreads) {
-  std::string arena = Light("l1", "0,0,0.5") + Light("l2", "2,2,0.3") + Box("wall", "0.1,2,0.5", "-1,0,0");
-  arena += "<distribute><position method=\"uniform\" min=\"-3.5,-3.5,0\" max=\"3.5,3.5,0\"/>"
-           "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
-           "<entity quantity=\"200\"><marxbot id=\"mb\"><controller config=\"lp\"/></marxbot></entity></distribute>";
-  const std::string xml = Experiment(arena, Controllers("noise=\"gaussian\" noise_std_dev=\"0.02\""), "8,8,2");
+  std::string arena =
+      Light("l1", "0,0,0.5") + Light("l2", "2,2,0.3") + Box("wall", "0.1,2,0.5", "-1,0,0");
+  arena +=
+      "<distribute><position method=\"uniform\" min=\"-3.5,-3.5,0\" max=\"3.5,3.5,0\"/>"
+      "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
+      "<entity quantity=\"200\"><marxbot id=\"mb\"><controller "
+      "config=\"lp\"/></marxbot></entity></distribute>";
+  const std::string xml =
+      Experiment(arena, Controllers("noise=\"gaussian\" noise_std_dev=\"0.02\""), "8,8,2");
   std::vector<uint64_t> hashes;
   for (int threads : {0, 1, 2, 4}) {
     auto sim = LoadXml(xml, {}, threads);
@@ -333,15 +356,21 @@ TEST(Light, NoiseIsReproducibleAndIndependentOfThreads) {
 TEST(Light, BadAttributesAreReportedWithElementAndLine) {
   const std::string robot = Robot("r", "0,0,0");
   // The sensor's element on line 3 of the file.
-  const std::string occlusions = LoadError(Experiment(
-      robot, "<light_probe id=\"lp\">\n<sensors>\n<light check_occlusions=\"maybe\"/></sensors></light_probe>"));
-  EXPECT_NE(occlusions.find("<string>:3: <light> attribute 'check_occlusions': 'maybe' is not a boolean"),
-            std::string::npos) << occlusions;
-  const std::string model = LoadError(Experiment(robot, Controllers("noise=\"gausian\" noise_std_dev=\"0.1\"")));
+  const std::string occlusions =
+      LoadError(Experiment(robot,
+                           "<light_probe id=\"lp\">\n<sensors>\n<light "
+                           "check_occlusions=\"maybe\"/></sensors></light_probe>"));
+  EXPECT_NE(
+      occlusions.find("<string>:3: <light> attribute 'check_occlusions': 'maybe' is not a boolean"),
+      std::string::npos)
+      << occlusions;
+  const std::string model =
+      LoadError(Experiment(robot, Controllers("noise=\"gausian\" noise_std_dev=\"0.1\"")));
   EXPECT_NE(model.find("<light>"), std::string::npos) << model;
   EXPECT_NE(model.find("attribute 'noise'"), std::string::npos) << model;
   EXPECT_NE(model.find("did you mean 'gaussian'"), std::string::npos) << model;
-  const std::string spread = LoadError(Experiment(robot, Controllers("noise=\"gaussian\" noise_std_dev=\"-1\"")));
+  const std::string spread =
+      LoadError(Experiment(robot, Controllers("noise=\"gaussian\" noise_std_dev=\"-1\"")));
   EXPECT_NE(spread.find("attribute 'noise_std_dev'"), std::string::npos) << spread;
   EXPECT_NE(spread.find(">= 0"), std::string::npos) << spread;
   const std::string typo = LoadError(Experiment(robot, Controllers("check_occlusion=\"true\"")));
@@ -352,8 +381,8 @@ TEST(Light, RegisteredAttributesMatchTheReadme) {
   const auto* entry = Registry<SensorSystem>::Get().Find("light");
   ASSERT_NE(entry, nullptr);
   std::vector<std::string> registered = entry->info.AttributeNames();
-  EXPECT_EQ(registered, (std::vector<std::string>{"check_occlusions", "noise", "noise_std_dev", "noise_range",
-                                                  "drop_probability"}));
+  EXPECT_EQ(registered, (std::vector<std::string>{"check_occlusions", "noise", "noise_std_dev",
+                                                  "noise_range", "drop_probability"}));
   registered.push_back("implementation");
   EXPECT_EQ(testing::ReadmeAttributes("sensors/light"), registered);
 }

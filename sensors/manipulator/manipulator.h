@@ -14,7 +14,8 @@ class ManipulatorSensor : public Sensor {
  public:
   struct Reading {
     float value;  // 0: nothing in range; rises as an object nears; 1: touching (within 1 cm)
-    float angle;  // direction of the sensor from the IR side's facing direction, counter-clockwise (rad)
+    float angle;  // direction of the sensor from the IR side's facing direction, counter-clockwise
+                  // (rad)
   };
   // Height of the magnet's centre above the floor under the robot (m).
   double elevation() const { return elevation_; }

@@ -36,12 +36,16 @@ class ManipulatorUser : public Controller {
  private:
   ManipulatorActuator* arm_ = nullptr;
 };
-COLONY_REGISTER_CONTROLLER(ManipulatorUser, "manipulator_user", "test: scripted manipulator on dynamics3d");
+COLONY_REGISTER_CONTROLLER(ManipulatorUser, "manipulator_user",
+                           "test: scripted manipulator on dynamics3d");
 
 std::unique_ptr<Simulation> Load(const std::string& arena) {
   return testing::LoadXml(testing::Experiment(
-      "<marxbot id=\"r\" manipulator=\"true\"><body position=\"0,0,0\"/><controller config=\"mu\"/></marxbot>" + arena,
-      "<manipulator_user id=\"mu\"><actuators><manipulator/></actuators><sensors><manipulator/></sensors>"
+      "<marxbot id=\"r\" manipulator=\"true\"><body position=\"0,0,0\"/><controller "
+      "config=\"mu\"/></marxbot>" +
+          arena,
+      "<manipulator_user "
+      "id=\"mu\"><actuators><manipulator/></actuators><sensors><manipulator/></sensors>"
       "</manipulator_user>",
       "3,3,1", "", "<dynamics3d id=\"d3d\"/>"));
 }
@@ -49,7 +53,9 @@ std::unique_ptr<Simulation> Load(const std::string& arena) {
 ManipulatorUser& User(Simulation& sim) {
   return dynamic_cast<ManipulatorUser&>(*sim.ControllerOf(sim.space().Find("r")));
 }
-Vec3 PositionOf(Simulation& sim, const std::string& id) { return sim.space().pose(sim.space().Find(id).index).position; }
+Vec3 PositionOf(Simulation& sim, const std::string& id) {
+  return sim.space().pose(sim.space().Find(id).index).position;
+}
 
 void RunFor(Simulation& sim, double seconds) {
   const int ticks = static_cast<int>(std::lround(seconds / sim.dt()));
@@ -106,7 +112,8 @@ TEST(ManipulatorOnDynamics3d, IrSensorsSeeACubeInFrontOfTheIrSide) {
   auto sim = Load("<cube id=\"c\"><body position=\"0.175,0,0\"/></cube>");
   ManipulatorUser& u = User(*sim);
   RunFor(*sim, 0.5);
-  for (const auto& r : u.sensor->readings()) EXPECT_EQ(r.value, 0.0f) << "the IR side faces the body";
+  for (const auto& r : u.sensor->readings())
+    EXPECT_EQ(r.value, 0.0f) << "the IR side faces the body";
   u.rotation = ManipulatorActuator::kIrSide;
   RunFor(*sim, 4.0);
   EXPECT_GT(std::abs(u.sensor->rotation()), 3.1);

@@ -16,8 +16,6 @@
 // distance d to the nearest hit:
 //   value = min(1, 0.01 m / d) if d <= range, else 0
 // then noise is added and the value clamped to [0, 1].
-#include "sensors/manipulator/manipulator.h"
-
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -27,6 +25,7 @@
 #include "core/geometry2d.h"
 #include "core/simulation.h"
 #include "entities/marxbot/marxbot.h"
+#include "sensors/manipulator/manipulator.h"
 
 namespace colony {
 namespace {
@@ -60,15 +59,19 @@ class ManipulatorSensorSystem : public SensorSystem {
     noise_ = NoiseModel::Read(node);
   }
 
-  std::vector<std::string> NeededComponents() const override { return {ManipulatorState::kComponentName}; }
+  std::vector<std::string> NeededComponents() const override {
+    return {ManipulatorState::kComponentName};
+  }
 
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
     Pose head;
     if (!sim().Anchor(robot, ManipulatorState::kHeadAnchor, head)) {
-      throw AttachError(std::string("its physics model gives no '") + ManipulatorState::kHeadAnchor + "' anchor");
+      throw AttachError(std::string("its physics model gives no '") +
+                        ManipulatorState::kHeadAnchor + "' anchor");
     }
     ManipulatorSensorInstance& s = instances_.Add(robot, rng);
-    for (int i = 0; i < kIrCount; ++i) s.mutable_readings().push_back({0.0f, static_cast<float>(IrAngle(i))});
+    for (int i = 0; i < kIrCount; ++i)
+      s.mutable_readings().push_back({0.0f, static_cast<float>(IrAngle(i))});
     return &s;
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<ManipulatorSensor*>(s)); }
@@ -122,7 +125,8 @@ class ManipulatorSensorSystem : public SensorSystem {
           const Vec2 dir(std::cos(a), std::sin(a));
           const Vec2 origin = face + IrOffset(i) * across;
           double best = kNoHit;
-          for (uint32_t o : near) best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
+          for (uint32_t o : near)
+            best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
           // What lies behind the robot's own body is hidden.
           if (best <= range_ && RayFootprint(origin, dir, pose, space.geometry(self)) > best) {
             value = std::min(1.0, 0.01 / std::max(best, 1e-6));
@@ -159,11 +163,12 @@ std::vector<AttributeDoc> ManipulatorSensorAttributes() {
   return a;
 }
 
-COLONY_REGISTER_SENSOR(ManipulatorSensorSystem, "manipulator", "default",
-                       "the construction manipulator's head elevation (m) and rotation (rad), its magnet "
-                       "(0..1, engaged), whether it holds something, and the 6 IR proximity sensors of the "
-                       "head's IR side (0.01/d, 0 beyond range)",
-                       ManipulatorSensorAttributes());
+COLONY_REGISTER_SENSOR(
+    ManipulatorSensorSystem, "manipulator", "default",
+    "the construction manipulator's head elevation (m) and rotation (rad), its magnet "
+    "(0..1, engaged), whether it holds something, and the 6 IR proximity sensors of the "
+    "head's IR side (0.01/d, 0 beyond range)",
+    ManipulatorSensorAttributes());
 
 }  // namespace
 }  // namespace colony

@@ -55,16 +55,17 @@ class DoubleMarxbotModel : public PhysicsModel {
     const ManipulatorState* m = space.Get<ManipulatorState>(s);
     if (name != ManipulatorState::kHeadAnchor || !m) return false;
     const Pose& robot = space.pose(s);
-    pose.position = robot.position + robot.orientation * Vec3(marxbot::kBodyRadius + 0.5 * marxbot::kHeadDepth, 0,
-                                                              m->elevation);
+    pose.position =
+        robot.position +
+        robot.orientation * Vec3(marxbot::kBodyRadius + 0.5 * marxbot::kHeadDepth, 0, m->elevation);
     pose.orientation = robot.orientation * FromYaw(m->rotation);
     return true;
   }
 };
 COLONY_REGISTER_ENGINE(ManipulatorDoubleEngine, "manipulator_sensor_double",
                        "test double: heads jump to their commands; nothing moves", {});
-COLONY_REGISTER_PHYSICS_MODEL(DoubleMarxbotModel, "manipulator_sensor_double:marxbot", "test double",
-                              (std::vector<std::string>{"drive", "manipulator"}));
+COLONY_REGISTER_PHYSICS_MODEL(DoubleMarxbotModel, "manipulator_sensor_double:marxbot",
+                              "test double", (std::vector<std::string>{"drive", "manipulator"}));
 COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:cube", "test double", {});
 COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:box", "test double", {});
 
@@ -93,28 +94,33 @@ class ManipulatorProbe : public Controller {
  private:
   ManipulatorActuator* arm_ = nullptr;
 };
-COLONY_REGISTER_CONTROLLER(ManipulatorProbe, "manipulator_probe", "test: scripted manipulator, records its sensor");
+COLONY_REGISTER_CONTROLLER(ManipulatorProbe, "manipulator_probe",
+                           "test: scripted manipulator, records its sensor");
 
 const std::string kDouble = "<manipulator_sensor_double id=\"dbl\"/>";
 
 std::string Controllers(const std::string& sensor_attributes = "") {
-  return "<manipulator_probe id=\"mp\"><actuators><manipulator/></actuators><sensors><manipulator " +
+  return "<manipulator_probe "
+         "id=\"mp\"><actuators><manipulator/></actuators><sensors><manipulator " +
          sensor_attributes + "/></sensors></manipulator_probe>";
 }
 
 std::string Robot(const std::string& id, const std::string& position, double yaw_degrees = 0,
                   bool manipulator = true) {
-  return "<marxbot id=\"" + id + "\"" + (manipulator ? " manipulator=\"true\"" : "") + "><body position=\"" +
-         position + "\" orientation=\"" + std::to_string(yaw_degrees) + ",0,0\"/><controller config=\"mp\"/></marxbot>";
+  return "<marxbot id=\"" + id + "\"" + (manipulator ? " manipulator=\"true\"" : "") +
+         "><body position=\"" + position + "\" orientation=\"" + std::to_string(yaw_degrees) +
+         ",0,0\"/><controller config=\"mp\"/></marxbot>";
 }
 
 std::string Cube(const std::string& id, const std::string& position) {
   return "<cube id=\"" + id + "\"><body position=\"" + position + "\"/></cube>";
 }
 
-std::unique_ptr<Simulation> Load(const std::string& arena, const std::string& sensor_attributes = "",
+std::unique_ptr<Simulation> Load(const std::string& arena,
+                                 const std::string& sensor_attributes = "",
                                  std::optional<int> threads = std::nullopt) {
-  return LoadXml(Experiment(arena, Controllers(sensor_attributes), "4,4,1", "", kDouble), {}, threads);
+  return LoadXml(Experiment(arena, Controllers(sensor_attributes), "4,4,1", "", kDouble), {},
+                 threads);
 }
 
 ManipulatorProbe& Probe(Simulation& sim, const std::string& robot = "r") {
@@ -186,7 +192,8 @@ TEST(ManipulatorSensor, ReportsWhatTheEngineSaysIsHeld) {
   ManipulatorProbe& p = Probe(*sim);
   Ticks(*sim, 1);
   EXPECT_FALSE(p.sensor->holding());
-  sim->space().Get<ManipulatorState>(sim->space().Find("r").index)->held = sim->space().Find("c").index;
+  sim->space().Get<ManipulatorState>(sim->space().Find("r").index)->held =
+      sim->space().Find("c").index;
   Ticks(*sim, 1);
   EXPECT_TRUE(p.sensor->holding());
 }
@@ -198,7 +205,8 @@ TEST(ManipulatorSensor, IrSideSeesACubeInFrontAtTheHeadsHeight) {
   Ticks(*sim, 3);
   const auto v = Values(p);
   ASSERT_EQ(v.size(), 6u);
-  for (int i = 0; i < 6; ++i) EXPECT_NEAR(v[i], ExpectedOnFace(i, 0.145, 0.03), 1e-5) << "sensor " << i;
+  for (int i = 0; i < 6; ++i)
+    EXPECT_NEAR(v[i], ExpectedOnFace(i, 0.145, 0.03), 1e-5) << "sensor " << i;
   EXPECT_GT(v[2], 0.3f) << "the two middle sensors see it about 3 cm away";
   EXPECT_FLOAT_EQ(v[2], v[3]);
   EXPECT_FLOAT_EQ(v[1], v[4]);
@@ -224,16 +232,20 @@ TEST(ManipulatorSensor, IrSideTurnsWithTheHeadAndTheRobot) {
   // The robot faces +y (yaw 90 degrees): its head's pivot is at (0, 0.1).
   // One cube ahead of the head, one to the right of it (+x). The IR side
   // faces yaw + rotation + pi.
-  auto sim = Load(Robot("r", "0,0,0", 90) + Cube("ahead", "0,0.175,0") + Cube("right", "0.12,0.1,0"));
+  auto sim =
+      Load(Robot("r", "0,0,0", 90) + Cube("ahead", "0,0.175,0") + Cube("right", "0.12,0.1,0"));
   ManipulatorProbe& p = Probe(*sim);
   auto seen = [&](double rotation) {
     p.rotation = rotation;
     Ticks(*sim, 2);
     return Values(p)[2];
   };
-  EXPECT_GT(seen(ManipulatorActuator::kIrSide), 0.3f) << "IR side to the front: the cube ahead, 3 cm away";
-  EXPECT_EQ(seen(ManipulatorActuator::kMagnetSide), 0.0f) << "IR side to the back: it faces the body";
-  EXPECT_NEAR(seen(M_PI / 2), 0.13, 0.01) << "facing 90 + 90 + 180 = 0 degrees: the cube on the right, 7.5 cm away";
+  EXPECT_GT(seen(ManipulatorActuator::kIrSide), 0.3f)
+      << "IR side to the front: the cube ahead, 3 cm away";
+  EXPECT_EQ(seen(ManipulatorActuator::kMagnetSide), 0.0f)
+      << "IR side to the back: it faces the body";
+  EXPECT_NEAR(seen(M_PI / 2), 0.13, 0.01)
+      << "facing 90 + 90 + 180 = 0 degrees: the cube on the right, 7.5 cm away";
   EXPECT_EQ(seen(-M_PI / 2), 0.0f) << "facing 180 degrees: nothing there";
 }
 
@@ -241,7 +253,8 @@ TEST(ManipulatorSensor, TheRobotsOwnBodyHidesWhatIsBehindIt) {
   // Range 0.3 m. With the magnet to the front, the IR side faces the body:
   // a cube behind the robot, 20 cm from the IR face through the body, is
   // hidden; a cube 10 cm in front of the IR side turned forwards is seen.
-  auto sim = Load(Robot("r", "0,0,0") + Cube("behind", "-0.15,0,0") + Cube("ahead", "0.245,0,0"), "range=\"0.3\"");
+  auto sim = Load(Robot("r", "0,0,0") + Cube("behind", "-0.15,0,0") + Cube("ahead", "0.245,0,0"),
+                  "range=\"0.3\"");
   ManipulatorProbe& p = Probe(*sim);
   p.rotation = ManipulatorActuator::kMagnetSide;
   Ticks(*sim, 3);
@@ -257,20 +270,23 @@ TEST(ManipulatorSensor, HeldCubeIsNotSeen) {
   ManipulatorProbe& p = Probe(*sim);
   Ticks(*sim, 3);
   EXPECT_GT(Values(p)[2], 0.3f);
-  sim->space().Get<ManipulatorState>(sim->space().Find("r").index)->held = sim->space().Find("c").index;
+  sim->space().Get<ManipulatorState>(sim->space().Find("r").index)->held =
+      sim->space().Find("c").index;
   Ticks(*sim, 1);
   for (float x : Values(p)) EXPECT_EQ(x, 0.0f);
 }
 
 TEST(ManipulatorSensor, TallThingsAreSeenAtAnyHeightBeyondRangeNothing) {
   // A 30 cm box 2 cm in front of the IR face.
-  const std::string box = "<box id=\"b\" size=\"0.04,0.2,0.3\" movable=\"true\"><body position=\"0.155,0,0\"/></box>";
+  const std::string box =
+      "<box id=\"b\" size=\"0.04,0.2,0.3\" movable=\"true\"><body position=\"0.155,0,0\"/></box>";
   auto sim = Load(Robot("r", "0,0,0") + box);
   ManipulatorProbe& p = Probe(*sim);
   for (double elevation : {0.03, 0.1, 0.2}) {
     p.elevation = elevation;
     Ticks(*sim, 2);
-    for (int i = 0; i < 6; ++i) EXPECT_NEAR(Values(p)[i], ExpectedOnFace(i, 0.135, 0.1), 1e-5) << elevation << " " << i;
+    for (int i = 0; i < 6; ++i)
+      EXPECT_NEAR(Values(p)[i], ExpectedOnFace(i, 0.135, 0.1), 1e-5) << elevation << " " << i;
   }
   // Moved to 12 cm from the IR face: beyond the 0.1 m range.
   sim->space().pose(sim->space().Find("b").index).position.x() = kIrFaceX + 0.12 + 0.02;
@@ -308,8 +324,10 @@ TEST(ManipulatorSensor, ResultsDoNotDependOnTheThreadCount) {
   std::string arena;
   for (int i = 0; i < 40; ++i) {
     const double x = -1.5 + 0.4 * (i % 8), y = -1.5 + 0.5 * (i / 8);
-    arena += Robot("r" + std::to_string(i), std::to_string(x) + "," + std::to_string(y) + ",0", 37.0 * i);
-    arena += Cube("c" + std::to_string(i), std::to_string(x + 0.17) + "," + std::to_string(y + 0.01 * (i % 5)) + ",0");
+    arena += Robot("r" + std::to_string(i), std::to_string(x) + "," + std::to_string(y) + ",0",
+                   37.0 * i);
+    arena += Cube("c" + std::to_string(i),
+                  std::to_string(x + 0.17) + "," + std::to_string(y + 0.01 * (i % 5)) + ",0");
   }
   std::vector<uint64_t> hashes;
   for (int threads : {0, 1, 2}) {
@@ -322,25 +340,32 @@ TEST(ManipulatorSensor, ResultsDoNotDependOnTheThreadCount) {
 }
 
 void ExpectMentions(const std::string& message, const std::vector<std::string>& parts) {
-  for (const auto& p : parts) EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' in: " << message;
+  for (const auto& p : parts)
+    EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' in: " << message;
 }
 
 TEST(ManipulatorSensor, RobotsAndEnginesThatCannotCarryItAreRejected) {
-  const std::string no_arm = LoadError(
-      Experiment(Robot("r", "0,0,0", 0, false), "<manipulator_probe id=\"mp\"><sensors><manipulator/></sensors>"
-                 "</manipulator_probe>", "4,4,1", "", kDouble));
+  const std::string no_arm =
+      LoadError(Experiment(Robot("r", "0,0,0", 0, false),
+                           "<manipulator_probe id=\"mp\"><sensors><manipulator/></sensors>"
+                           "</manipulator_probe>",
+                           "4,4,1", "", kDouble));
   ExpectMentions(no_arm, {"<manipulator>: robot 'r' (a marxbot", "cannot carry this sensor",
                           "declare the marxbot with manipulator=\"true\""});
-  const std::string k2d = LoadError(Experiment(Robot("r", "0,0,0"),
-                                               "<manipulator_probe id=\"mp\"><sensors><manipulator/></sensors>"
-                                               "</manipulator_probe>", "4,4,1", "", "<kinematics2d id=\"k2d\"/>"));
+  const std::string k2d =
+      LoadError(Experiment(Robot("r", "0,0,0"),
+                           "<manipulator_probe id=\"mp\"><sensors><manipulator/></sensors>"
+                           "</manipulator_probe>",
+                           "4,4,1", "", "<kinematics2d id=\"k2d\"/>"));
   ExpectMentions(k2d, {"<manipulator>: robot 'r' (a marxbot", "cannot carry this sensor",
-                       "its physics engine (kinematics2d 'k2d') does not simulate the manipulator of a marxbot; use dynamics3d"});
+                       "its physics engine (kinematics2d 'k2d') does not simulate the manipulator "
+                       "of a marxbot; use dynamics3d"});
 }
 
 TEST(ManipulatorSensor, BadAttributesAreReportedWithElementAndLine) {
   auto error = [](const std::string& attributes) {
-    return LoadError(Experiment(Robot("r", "0,0,0"), "\n" + Controllers(attributes), "4,4,1", "", kDouble));
+    return LoadError(
+        Experiment(Robot("r", "0,0,0"), "\n" + Controllers(attributes), "4,4,1", "", kDouble));
   };
   ExpectMentions(error("range=\"0\""), {":2:", "<manipulator>", "attribute 'range'", "> 0"});
   ExpectMentions(error("range=\"far\""), {"attribute 'range'", "not a finite number"});
@@ -352,8 +377,8 @@ TEST(ManipulatorSensor, RegisteredAttributesMatchTheReadme) {
   const auto* entry = Registry<SensorSystem>::Get().Find("manipulator");
   ASSERT_NE(entry, nullptr);
   const std::vector<std::string> registered = entry->info.AttributeNames();
-  EXPECT_EQ(registered,
-            (std::vector<std::string>{"range", "noise", "noise_std_dev", "noise_range", "drop_probability"}));
+  EXPECT_EQ(registered, (std::vector<std::string>{"range", "noise", "noise_std_dev", "noise_range",
+                                                  "drop_probability"}));
   EXPECT_EQ(testing::ReadmeAttributes("sensors/manipulator"), registered);
 }
 

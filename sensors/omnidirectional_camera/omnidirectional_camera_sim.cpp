@@ -4,17 +4,16 @@
 // in the robot's frame. The camera sits on the robot's axis, `elevation`
 // above its base, looking all around through a mirror whose vertical field
 // spans `aperture` degrees above and below its horizontal plane.
-#include "sensors/omnidirectional_camera/omnidirectional_camera.h"
-
 #include <cmath>
 #include <limits>
 #include <vector>
 
 #include "core/device.h"
 #include "core/simulation.h"
-#include "media/led/led_medium.h"
 #include "media/fast_math.h"
+#include "media/led/led_medium.h"
 #include "media/occlusion.h"
+#include "sensors/omnidirectional_camera/omnidirectional_camera.h"
 
 namespace colony {
 namespace {
@@ -44,13 +43,16 @@ class CameraSystem : public SensorSystem {
     noise_ = NoiseModel::Read(node);
     bearing_noise_ = node.GetDouble("bearing_noise_std_dev", 0, Range::NonNegative());
     // |height difference| <= distance * tan(aperture); at 90 degrees everything.
-    slope_ = aperture >= 90.0 ? std::numeric_limits<double>::infinity() : std::tan(DegToRad(aperture));
+    slope_ =
+        aperture >= 90.0 ? std::numeric_limits<double>::infinity() : std::tan(DegToRad(aperture));
     if (medium_) {
       medium_->RequestReach(range_);
       if (check_occlusions_) medium_->RequestOcclusions();
     }
   }
-  Sensor* Attach(EntityHandle robot, const RandomStream& rng) override { return &instances_.Add(robot, rng); }
+  Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
+    return &instances_.Add(robot, rng);
+  }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<OmnidirectionalCamera*>(s)); }
   size_t size() const override { return instances_.size(); }
 
@@ -76,7 +78,8 @@ class CameraSystem : public SensorSystem {
         for (uint32_t i = b; i < e; ++i) {
           const LedMedium::Led& led = leds[i];
           if (led.owner == self) continue;
-          const Vec3 l = to_local * Vec3(led.x - camera.x(), led.y - camera.y(), led.z - camera.z());
+          const Vec3 l =
+              to_local * Vec3(led.x - camera.x(), led.y - camera.y(), led.z - camera.z());
           const double d2 = l.x() * l.x() + l.y() * l.y();
           if (d2 > range2) continue;
           const double distance = std::sqrt(d2);
@@ -92,8 +95,9 @@ class CameraSystem : public SensorSystem {
           if (noise_.Drop(c.rng)) continue;
           double bearing = FastAtan2(l.y(), l.x());
           if (bearing <= -M_PI) bearing = M_PI;  // (-pi, pi]
-          const double noisy = noise_.kind == NoiseModel::Kind::kNone ? distance
-                                                                       : std::max(0.0, noise_.Apply(distance, c.rng));
+          const double noisy = noise_.kind == NoiseModel::Kind::kNone
+                                   ? distance
+                                   : std::max(0.0, noise_.Apply(distance, c.rng));
           if (bearing_noise_ > 0) bearing = WrapAngle(bearing + c.rng.Gaussian(0, bearing_noise_));
           blobs.push_back({led.color.r, led.color.g, led.color.b, static_cast<float>(noisy),
                            static_cast<float>(bearing)});
@@ -129,24 +133,28 @@ std::vector<AttributeDoc> CameraAttributes() {
   return {
       {"range", "a number > 0 (m)", "1.5", "how far (horizontally) blobs are seen"},
       {"aperture", "a number in (0, 90] (degrees)", "70",
-       "half-height of the mirror's vertical field: blobs more than this above or below the camera's "
+       "half-height of the mirror's vertical field: blobs more than this above or below the "
+       "camera's "
        "horizontal plane are not seen"},
       {"elevation", "a number (m)", "0.288", "height of the camera above the robot's base"},
       {"check_occlusions", "true, false", "true", "a blob hidden behind a solid body is not seen"},
       {"medium", "the id of a <led> in <media>", "the only one, or one with default settings",
        "which LED medium the blobs come from"},
       {"noise", "none, gaussian, uniform", "none", "noise added to each blob's distance"},
-      {"noise_std_dev", "a number >= 0 (m)", "0", "standard deviation of gaussian noise on the distance"},
+      {"noise_std_dev", "a number >= 0 (m)", "0",
+       "standard deviation of gaussian noise on the distance"},
       {"noise_range", "\"min,max\" (m)", "0,0", "bounds of uniform noise on the distance"},
       {"drop_probability", "a number in [0, 1]", "0", "probability that a blob is missed"},
-      {"bearing_noise_std_dev", "a number >= 0 (rad)", "0", "standard deviation of gaussian noise on the bearing"},
+      {"bearing_noise_std_dev", "a number >= 0 (rad)", "0",
+       "standard deviation of gaussian noise on the bearing"},
   };
 }
 
-COLONY_REGISTER_SENSOR(CameraSystem, "omnidirectional_camera", "default",
-                       "coloured blobs around the robot (other entities' lit LEDs, landmarks), each with its "
-                       "colour, distance and bearing in the robot's frame",
-                       CameraAttributes());
+COLONY_REGISTER_SENSOR(
+    CameraSystem, "omnidirectional_camera", "default",
+    "coloured blobs around the robot (other entities' lit LEDs, landmarks), each with its "
+    "colour, distance and bearing in the robot's frame",
+    CameraAttributes());
 
 }  // namespace
 }  // namespace colony

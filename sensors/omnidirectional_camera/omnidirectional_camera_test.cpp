@@ -16,10 +16,10 @@
 namespace colony {
 namespace {
 
+using testing::ExpectMentions;
 using testing::Experiment;
 using testing::LoadError;
 using testing::LoadXml;
-using testing::ExpectMentions;
 using testing::ReadmeAttributes;
 
 // Records the blobs it sees. Param only_led="k" lights LED k alone (in the
@@ -57,28 +57,31 @@ class CameraProbe : public Controller {
   Leds* leds_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(CameraProbe, "camera_probe", "test: records omnidirectional camera blobs");
+COLONY_REGISTER_CONTROLLER(CameraProbe, "camera_probe",
+                           "test: records omnidirectional camera blobs");
 
 // "eye": a camera, LEDs off; "lit": red LEDs, no camera; "both": both.
 std::string Controllers(const std::string& camera = "", const std::string& lit_params = "") {
   return "<camera_probe id=\"eye\"><sensors><omnidirectional_camera " + camera +
          "/></sensors></camera_probe>"
-         "<camera_probe id=\"lit\"><actuators><leds color=\"red\"/></actuators><params " + lit_params +
+         "<camera_probe id=\"lit\"><actuators><leds color=\"red\"/></actuators><params " +
+         lit_params +
          "/></camera_probe>"
-         "<camera_probe id=\"both\"><sensors><omnidirectional_camera " + camera +
-         "/></sensors><actuators><leds color=\"blue\"/></actuators></camera_probe>";
+         "<camera_probe id=\"both\"><sensors><omnidirectional_camera " +
+         camera + "/></sensors><actuators><leds color=\"blue\"/></actuators></camera_probe>";
 }
 
 std::string Robot(const std::string& id, double x, double y, double yaw_degrees = 0,
                   const std::string& config = "eye") {
-  return "<marxbot id=\"" + id + "\"><body position=\"" + std::to_string(x) + "," + std::to_string(y) +
-         ",0\" orientation=\"" + std::to_string(yaw_degrees) + ",0,0\"/><controller config=\"" + config +
-         "\"/></marxbot>";
+  return "<marxbot id=\"" + id + "\"><body position=\"" + std::to_string(x) + "," +
+         std::to_string(y) + ",0\" orientation=\"" + std::to_string(yaw_degrees) +
+         ",0,0\"/><controller config=\"" + config + "\"/></marxbot>";
 }
 
-std::string Landmark(const std::string& id, double x, double y, const std::string& attributes = "") {
-  return "<landmark id=\"" + id + "\" " + attributes + "><body position=\"" + std::to_string(x) + "," +
-         std::to_string(y) + ",0\"/></landmark>";
+std::string Landmark(const std::string& id, double x, double y,
+                     const std::string& attributes = "") {
+  return "<landmark id=\"" + id + "\" " + attributes + "><body position=\"" + std::to_string(x) +
+         "," + std::to_string(y) + ",0\"/></landmark>";
 }
 
 std::string Box(const std::string& id, const std::string& size, const std::string& position) {
@@ -91,8 +94,12 @@ const std::vector<OmnidirectionalCamera::Blob>& Blobs(Simulation& sim, const std
   return probe->blobs;
 }
 
-bool Red(const OmnidirectionalCamera::Blob& b) { return b.red == 255 && b.green == 0 && b.blue == 0; }
-bool Green(const OmnidirectionalCamera::Blob& b) { return b.red == 0 && b.green == 255 && b.blue == 0; }
+bool Red(const OmnidirectionalCamera::Blob& b) {
+  return b.red == 255 && b.green == 0 && b.blue == 0;
+}
+bool Green(const OmnidirectionalCamera::Blob& b) {
+  return b.red == 0 && b.green == 255 && b.blue == 0;
+}
 
 // The one blob seen, or a failure.
 OmnidirectionalCamera::Blob Only(Simulation& sim, const std::string& robot) {
@@ -103,10 +110,11 @@ OmnidirectionalCamera::Blob Only(Simulation& sim, const std::string& robot) {
 
 TEST(OmnidirectionalCamera, LandmarksFrontLeftBehindRight) {
   // One eye per scene, 6 m apart (beyond range), each with one landmark.
-  auto sim = LoadXml(Experiment(Robot("front", -3, -3) + Landmark("l1", -2, -3) + Robot("left", 3, -3) +
-                                    Landmark("l2", 3, -2.5) + Robot("behind", -3, 3) + Landmark("l3", -4.2, 3) +
-                                    Robot("right", 3, 3) + Landmark("l4", 3, 2),
-                                Controllers(), "10,10,1"));
+  auto sim =
+      LoadXml(Experiment(Robot("front", -3, -3) + Landmark("l1", -2, -3) + Robot("left", 3, -3) +
+                             Landmark("l2", 3, -2.5) + Robot("behind", -3, 3) +
+                             Landmark("l3", -4.2, 3) + Robot("right", 3, 3) + Landmark("l4", 3, 2),
+                         Controllers(), "10,10,1"));
   sim->Step();
   auto b = Only(*sim, "front");
   EXPECT_NEAR(b.distance, 1.0, 1e-6);
@@ -126,8 +134,9 @@ TEST(OmnidirectionalCamera, LandmarksFrontLeftBehindRight) {
 
 TEST(OmnidirectionalCamera, BearingIsInTheRobotsFrame) {
   // Facing +y: a landmark at +x is on the right, one at -y behind.
-  auto sim = LoadXml(Experiment(Robot("north", -3, 0, 90) + Landmark("east", -2, 0) + Robot("north2", 3, 0, 90) +
-                                    Landmark("south", 3, -0.7) + Robot("ne", 0, 3, 45) + Landmark("l", 0, 4),
+  auto sim = LoadXml(Experiment(Robot("north", -3, 0, 90) + Landmark("east", -2, 0) +
+                                    Robot("north2", 3, 0, 90) + Landmark("south", 3, -0.7) +
+                                    Robot("ne", 0, 3, 45) + Landmark("l", 0, 4),
                                 Controllers(), "10,10,1"));
   sim->Step();
   EXPECT_NEAR(Only(*sim, "north").bearing, -M_PI / 2, 1e-6);
@@ -150,8 +159,9 @@ TEST(OmnidirectionalCamera, EachLitLedOfAnotherRobotIsABlobWhereTheLedIs) {
     EXPECT_NEAR(b.bearing, std::atan2(0.075, 1.0), 1e-6);
   }
   {
-    auto sim = LoadXml(Experiment(Robot("eye", 0, 0) + Robot("other", 1, 0, 90, "lit"),
-                                  Controllers("", "only_led=\"3\"")));  // 90 degrees left of its front: -x
+    auto sim =
+        LoadXml(Experiment(Robot("eye", 0, 0) + Robot("other", 1, 0, 90, "lit"),
+                           Controllers("", "only_led=\"3\"")));  // 90 degrees left of its front: -x
     sim->Step();
     const auto b = Only(*sim, "eye");
     EXPECT_NEAR(b.distance, 1 - 0.075, 1e-6);
@@ -166,7 +176,8 @@ TEST(OmnidirectionalCamera, EachLitLedOfAnotherRobotIsABlobWhereTheLedIs) {
     EXPECT_NEAR(b.bearing, 0.0, 1e-6);
   }
   // All 13 lit: 13 red blobs, 12 on a circle of 7.5 cm around the robot's axis.
-  auto sim = LoadXml(Experiment(Robot("eye", 0, 0) + Robot("other", 0, 1, 0, "lit"), Controllers()));
+  auto sim =
+      LoadXml(Experiment(Robot("eye", 0, 0) + Robot("other", 0, 1, 0, "lit"), Controllers()));
   sim->Step();
   const auto& blobs = Blobs(*sim, "eye");
   ASSERT_EQ(blobs.size(), 13u);
@@ -175,8 +186,10 @@ TEST(OmnidirectionalCamera, EachLitLedOfAnotherRobotIsABlobWhereTheLedIs) {
     EXPECT_TRUE(Red(b));
     const double x = b.distance * std::cos(b.bearing), y = b.distance * std::sin(b.bearing);
     const double from_axis = std::hypot(x, y - 1.0);
-    if (std::abs(from_axis - 0.075) < 1e-6) ++on_ring;
-    else EXPECT_NEAR(from_axis, 0.0, 1e-6);
+    if (std::abs(from_axis - 0.075) < 1e-6)
+      ++on_ring;
+    else
+      EXPECT_NEAR(from_axis, 0.0, 1e-6);
   }
   EXPECT_EQ(on_ring, 12);
 }
@@ -184,7 +197,8 @@ TEST(OmnidirectionalCamera, EachLitLedOfAnotherRobotIsABlobWhereTheLedIs) {
 TEST(OmnidirectionalCamera, OwnLedsAndUnlitLedsAreNotSeen) {
   // "both" lights its own LEDs blue and sees nothing of them; "eye" robots
   // have their LEDs off and are not seen either.
-  auto sim = LoadXml(Experiment(Robot("self", 0, 0, 0, "both") + Robot("dark", 0.5, 0), Controllers()));
+  auto sim =
+      LoadXml(Experiment(Robot("self", 0, 0, 0, "both") + Robot("dark", 0.5, 0), Controllers()));
   sim->Step();
   EXPECT_TRUE(Blobs(*sim, "self").empty());
   // "dark" sees self's 13 blue LEDs.
@@ -193,7 +207,8 @@ TEST(OmnidirectionalCamera, OwnLedsAndUnlitLedsAreNotSeen) {
 }
 
 TEST(OmnidirectionalCamera, LedsSwitchedOffDisappearAtTheNextTick) {
-  auto sim = LoadXml(Experiment(Robot("eye", 0, 0) + Robot("other", 1, 0, 0, "lit"), Controllers("", "off=\"2\"")));
+  auto sim = LoadXml(Experiment(Robot("eye", 0, 0) + Robot("other", 1, 0, 0, "lit"),
+                                Controllers("", "off=\"2\"")));
   sim->Step();
   EXPECT_EQ(Blobs(*sim, "eye").size(), 13u);
   sim->Step();  // "other" switches off during this control step
@@ -203,8 +218,9 @@ TEST(OmnidirectionalCamera, LedsSwitchedOffDisappearAtTheNextTick) {
 }
 
 TEST(OmnidirectionalCamera, LightsAreSeenInTheirColour) {
-  auto sim = LoadXml(Experiment(Robot("eye", 0, 0) + "<light id=\"l\" position=\"0,1,0.2\" color=\"orange\"/>",
-                                Controllers()));
+  auto sim = LoadXml(
+      Experiment(Robot("eye", 0, 0) + "<light id=\"l\" position=\"0,1,0.2\" color=\"orange\"/>",
+                 Controllers()));
   sim->Step();
   const auto b = Only(*sim, "eye");
   EXPECT_NEAR(b.distance, 1.0, 1e-6);
@@ -215,8 +231,9 @@ TEST(OmnidirectionalCamera, LightsAreSeenInTheirColour) {
 
 TEST(OmnidirectionalCamera, BlobsBehindAWallAreNotSeenWhenOcclusionsAreChecked) {
   // A wall between eye and the landmark and robot on its east; nothing to its north.
-  const std::string arena = Robot("eye", 0, 0) + Landmark("hidden", 1, 0) + Robot("hidden_robot", 1, 0.4, 0, "lit") +
-                            Box("wall", "0.1,1.4,0.3", "0.5,0.2,0") + Landmark("open", 0, 1, "color=\"blue\"");
+  const std::string arena =
+      Robot("eye", 0, 0) + Landmark("hidden", 1, 0) + Robot("hidden_robot", 1, 0.4, 0, "lit") +
+      Box("wall", "0.1,1.4,0.3", "0.5,0.2,0") + Landmark("open", 0, 1, "color=\"blue\"");
   auto checked = LoadXml(Experiment(arena, Controllers()));
   checked->Step();
   const auto b = Only(*checked, "eye");
@@ -230,8 +247,9 @@ TEST(OmnidirectionalCamera, BlobsBehindAWallAreNotSeenWhenOcclusionsAreChecked) 
 TEST(OmnidirectionalCamera, ALowObstacleDoesNotHideWhatTheCameraSeesOverIt) {
   // The camera is 28.8 cm up: a 5 cm box between it and a landmark (centre
   // 10 cm up) 1 m away does not hide it; a 25 cm one does.
-  auto sim = LoadXml(Experiment(Robot("eye", 0, -1) + Landmark("l1", 1, -1) + Box("low", "0.1,0.4,0.05", "0.5,-1,0") +
-                                    Robot("eye2", 0, 1) + Landmark("l2", 1, 1) + Box("high", "0.1,0.4,0.25", "0.5,1,0"),
+  auto sim = LoadXml(Experiment(Robot("eye", 0, -1) + Landmark("l1", 1, -1) +
+                                    Box("low", "0.1,0.4,0.05", "0.5,-1,0") + Robot("eye2", 0, 1) +
+                                    Landmark("l2", 1, 1) + Box("high", "0.1,0.4,0.25", "0.5,1,0"),
                                 Controllers("range=\"1.2\"")));
   sim->Step();
   EXPECT_EQ(Blobs(*sim, "eye").size(), 1u);
@@ -240,14 +258,14 @@ TEST(OmnidirectionalCamera, ALowObstacleDoesNotHideWhatTheCameraSeesOverIt) {
 
 TEST(OmnidirectionalCamera, RangeLimitIsExact) {
   // Default range 1.5 m (horizontal distance from the camera's axis).
-  auto sim = LoadXml(Experiment(Robot("a", -2, -1) + Landmark("in", -2 + 1.5 - 1e-6, -1) + Robot("b", -2, 2) +
-                                    Landmark("out", -2 + 1.5 + 1e-6, 2),
+  auto sim = LoadXml(Experiment(Robot("a", -2, -1) + Landmark("in", -2 + 1.5 - 1e-6, -1) +
+                                    Robot("b", -2, 2) + Landmark("out", -2 + 1.5 + 1e-6, 2),
                                 Controllers(), "6,6,1"));
   sim->Step();
   EXPECT_NEAR(Only(*sim, "a").distance, 1.5, 1e-5);
   EXPECT_TRUE(Blobs(*sim, "b").empty());
-  auto narrow = LoadXml(Experiment(Robot("a", 0, -1) + Landmark("in", 0.5 - 1e-6, -1) + Robot("b", 0, 1) +
-                                       Landmark("out", 0.5 + 1e-6, 1),
+  auto narrow = LoadXml(Experiment(Robot("a", 0, -1) + Landmark("in", 0.5 - 1e-6, -1) +
+                                       Robot("b", 0, 1) + Landmark("out", 0.5 + 1e-6, 1),
                                    Controllers("range=\"0.5\"")));
   narrow->Step();
   EXPECT_EQ(Blobs(*narrow, "a").size(), 1u);
@@ -336,7 +354,8 @@ TEST(OmnidirectionalCamera, NoNoiseGivesExactValues) {
 
 TEST(OmnidirectionalCamera, NoiseHasTheDeclaredSpread) {
   // Bearing noise 0.015 rad keeps blobs well within +-5 degrees of their landmark.
-  const Samples s = Sample("noise=\"gaussian\" noise_std_dev=\"0.03\" bearing_noise_std_dev=\"0.015\"", 150);
+  const Samples s =
+      Sample("noise=\"gaussian\" noise_std_dev=\"0.03\" bearing_noise_std_dev=\"0.015\"", 150);
   ASSERT_EQ(s.distance_errors.size(), 150u * 36);
   EXPECT_NEAR(StdDev(s.distance_errors), 0.03, 0.03 * 0.04);
   EXPECT_NEAR(StdDev(s.bearing_errors), 0.015, 0.015 * 0.04);
@@ -355,12 +374,15 @@ TEST(OmnidirectionalCamera, MissProbabilityIsAsDeclared) {
 
 TEST(OmnidirectionalCamera, SameStateHashWhateverTheThreadCount) {
   const std::string xml = Experiment(
-      "<walls thickness=\"0.1\" height=\"0.5\"/>" + Box("b", "0.2,1,0.3", "0,0,0") + Landmark("lm", 1, 1) +
+      "<walls thickness=\"0.1\" height=\"0.5\"/>" + Box("b", "0.2,1,0.3", "0,0,0") +
+          Landmark("lm", 1, 1) +
           "<distribute><position method=\"uniform\" min=\"-1.8,-1.8,0\" max=\"1.8,1.8,0\"/>"
           "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
-          "<entity quantity=\"60\" max_trials=\"1000\"><marxbot id=\"mb\"><controller config=\"both\"/></marxbot>"
+          "<entity quantity=\"60\" max_trials=\"1000\"><marxbot id=\"mb\"><controller "
+          "config=\"both\"/></marxbot>"
           "</entity></distribute>",
-      Controllers("noise=\"gaussian\" noise_std_dev=\"0.02\" bearing_noise_std_dev=\"0.05\" drop_probability=\"0.1\""),
+      Controllers("noise=\"gaussian\" noise_std_dev=\"0.02\" bearing_noise_std_dev=\"0.05\" "
+                  "drop_probability=\"0.1\""),
       "4,4,1");
   uint64_t reference = 0;
   for (int threads : {0, 1, 2, 4}) {
@@ -374,10 +396,12 @@ TEST(OmnidirectionalCamera, SameStateHashWhateverTheThreadCount) {
 // --- bad input
 
 std::string Lines(const std::string& camera, const std::string& media = "") {
-  return "<colony><framework><experiment length=\"1\" ticks_per_second=\"10\" random_seed=\"1\"/></framework>\n"
-         "<controllers><camera_probe id=\"eye\"><sensors><omnidirectional_camera " + camera +
-         "/></sensors></camera_probe></controllers>\n" + media +
-         "<arena size=\"4,4,1\"><marxbot id=\"r\"><body position=\"0,0,0\"/><controller config=\"eye\"/></marxbot>"
+  return "<colony><framework><experiment length=\"1\" ticks_per_second=\"10\" "
+         "random_seed=\"1\"/></framework>\n"
+         "<controllers><camera_probe id=\"eye\"><sensors><omnidirectional_camera " +
+         camera + "/></sensors></camera_probe></controllers>\n" + media +
+         "<arena size=\"4,4,1\"><marxbot id=\"r\"><body position=\"0,0,0\"/><controller "
+         "config=\"eye\"/></marxbot>"
          "</arena><physics_engines><kinematics2d id=\"k\"/></physics_engines></colony>";
 }
 
@@ -386,20 +410,29 @@ TEST(OmnidirectionalCamera, BadAttributesAreReportedWithElementAndLine) {
   ExpectMentions(LoadError(Lines("range=\"-1\"")), {at + "'range'", "> 0"});
   ExpectMentions(LoadError(Lines("aperture=\"0\"")), {at + "'aperture'", "(0, 90]"});
   ExpectMentions(LoadError(Lines("aperture=\"120\"")), {at + "'aperture'", "(0, 90]"});
-  ExpectMentions(LoadError(Lines("elevation=\"high\"")), {at + "'elevation'", "not a finite number"});
-  ExpectMentions(LoadError(Lines("check_occlusions=\"yes\"")), {at + "'check_occlusions'", "true, false"});
+  ExpectMentions(LoadError(Lines("elevation=\"high\"")),
+                 {at + "'elevation'", "not a finite number"});
+  ExpectMentions(LoadError(Lines("check_occlusions=\"yes\"")),
+                 {at + "'check_occlusions'", "true, false"});
   ExpectMentions(LoadError(Lines("noise=\"pink\"")), {at + "'noise'", "none, gaussian, uniform"});
   ExpectMentions(LoadError(Lines("noise=\"uniform\"")), {at + "'noise_range'", "required"});
-  ExpectMentions(LoadError(Lines("bearing_noise_std_dev=\"-1\"")), {at + "'bearing_noise_std_dev'", ">= 0"});
-  ExpectMentions(LoadError(Lines("medium=\"eyes\"")), {at + "'medium'", "no medium with id 'eyes'"});
-  ExpectMentions(LoadError(Lines("medium=\"rab\"", "<media><range_and_bearing id=\"rab\"/></media>\n")),
-                 {"medium 'rab' is a <range_and_bearing>, not a <led>"});
+  ExpectMentions(LoadError(Lines("bearing_noise_std_dev=\"-1\"")),
+                 {at + "'bearing_noise_std_dev'", ">= 0"});
+  ExpectMentions(LoadError(Lines("medium=\"eyes\"")),
+                 {at + "'medium'", "no medium with id 'eyes'"});
+  ExpectMentions(
+      LoadError(Lines("medium=\"rab\"", "<media><range_and_bearing id=\"rab\"/></media>\n")),
+      {"medium 'rab' is a <range_and_bearing>, not a <led>"});
   ExpectMentions(LoadError(Lines("", "<media><led id=\"leds\" cell_size=\"-2\"/></media>\n")),
                  {":3: <led id=\"leds\"> attribute 'cell_size'", "> 0"});
-  EXPECT_EQ(LoadError(Lines("medium=\"leds\"", "<media><led id=\"leds\" cell_size=\"0.7\"/></media>\n")), "");
+  EXPECT_EQ(
+      LoadError(Lines("medium=\"leds\"", "<media><led id=\"leds\" cell_size=\"0.7\"/></media>\n")),
+      "");
   // The landmark's attributes.
-  ExpectMentions(LoadError(Experiment(Landmark("l", 0, 0, "height=\"0\""))), {"<landmark id=\"l\">", "'height'", "> 0"});
-  ExpectMentions(LoadError(Experiment(Landmark("l", 0, 0, "color=\"sky\""))), {"'color'", "is not a colour"});
+  ExpectMentions(LoadError(Experiment(Landmark("l", 0, 0, "height=\"0\""))),
+                 {"<landmark id=\"l\">", "'height'", "> 0"});
+  ExpectMentions(LoadError(Experiment(Landmark("l", 0, 0, "color=\"sky\""))),
+                 {"'color'", "is not a colour"});
 }
 
 // --- documentation

@@ -68,9 +68,10 @@ std::vector<AttributeDoc> PositioningAttributes() {
   return a;
 }
 
-COLONY_REGISTER_SENSOR(PositioningSystem, "positioning", "default",
-                       "the robot's position (m) and heading (rad) in the arena, with optional noise",
-                       PositioningAttributes());
+COLONY_REGISTER_SENSOR(
+    PositioningSystem, "positioning", "default",
+    "the robot's position (m) and heading (rad) in the arena, with optional noise",
+    PositioningAttributes());
 
 }  // namespace
 }  // namespace colony

@@ -42,7 +42,8 @@ class PositioningProbe : public Controller {
   double left_ = 0, right_ = 0;
 };
 
-COLONY_REGISTER_CONTROLLER(PositioningProbe, "positioning_probe", "test: records positioning readings");
+COLONY_REGISTER_CONTROLLER(PositioningProbe, "positioning_probe",
+                           "test: records positioning readings");
 
 std::string Controllers(const std::string& attributes = "", const std::string& params = "") {
   return "<positioning_probe id=\"pp\"><sensors><positioning " + attributes +
@@ -50,9 +51,10 @@ std::string Controllers(const std::string& attributes = "", const std::string& p
          "/></positioning_probe>";
 }
 
-std::string Robot(const std::string& id, const std::string& position, const std::string& orientation = "0,0,0") {
-  return "<marxbot id=\"" + id + "\"><body position=\"" + position + "\" orientation=\"" + orientation +
-         "\"/><controller config=\"pp\"/></marxbot>";
+std::string Robot(const std::string& id, const std::string& position,
+                  const std::string& orientation = "0,0,0") {
+  return "<marxbot id=\"" + id + "\"><body position=\"" + position + "\" orientation=\"" +
+         orientation + "\"/><controller config=\"pp\"/></marxbot>";
 }
 
 PositioningProbe& Probe(Simulation& sim, const std::string& robot) {
@@ -62,9 +64,10 @@ PositioningProbe& Probe(Simulation& sim, const std::string& robot) {
 }
 
 TEST(Positioning, ReportsThePoseGivenInBody) {
-  auto sim = LoadXml(Experiment(Robot("a", "0.5,-0.3,0", "90,0,0") + Robot("b", "-1.2,1.1,0", "-45,0,0") +
-                                    Robot("c", "0,0,0.2", "200,0,0"),
-                                Controllers()));
+  auto sim =
+      LoadXml(Experiment(Robot("a", "0.5,-0.3,0", "90,0,0") + Robot("b", "-1.2,1.1,0", "-45,0,0") +
+                             Robot("c", "0,0,0.2", "200,0,0"),
+                         Controllers()));
   sim->Step();
   const Fix a = Probe(*sim, "a").fixes.back();
   EXPECT_NEAR(a.x, 0.5, 1e-12);
@@ -83,8 +86,8 @@ TEST(Positioning, ReportsThePoseGivenInBody) {
 TEST(Positioning, HeadingStaysInTheDocumentedInterval) {
   // positioning.h promises yaw in (-pi, pi]; a robot facing -x must read +pi,
   // whichever way its orientation was written. Exposes YawOf returning -pi.
-  auto sim = LoadXml(Experiment(Robot("plus", "0,-1,0", "180,0,0") + Robot("minus", "0,1,0", "-180,0,0"),
-                                Controllers()));
+  auto sim = LoadXml(Experiment(
+      Robot("plus", "0,-1,0", "180,0,0") + Robot("minus", "0,1,0", "-180,0,0"), Controllers()));
   sim->Step();
   for (const char* id : {"plus", "minus"}) {
     const double yaw = Probe(*sim, id).fixes.back().yaw;
@@ -97,7 +100,8 @@ TEST(Positioning, HeadingStaysInTheDocumentedInterval) {
 TEST(Positioning, FollowsTheRobotAsItMoves) {
   // Straight ahead along +y at 0.1 m/s; commands given at tick t apply from
   // tick t+1, so after 11 ticks the robot moved 10 ticks x 0.01 m.
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0", "90,0,0"), Controllers("", "left=\"0.1\" right=\"0.1\"")));
+  auto sim = LoadXml(
+      Experiment(Robot("r", "0,0,0", "90,0,0"), Controllers("", "left=\"0.1\" right=\"0.1\"")));
   for (int t = 0; t < 11; ++t) sim->Step();
   const Fix f = Probe(*sim, "r").fixes.back();
   EXPECT_NEAR(f.x, 0.0, 1e-9);
@@ -111,7 +115,8 @@ TEST(Positioning, FollowsTheRobotAsItMoves) {
 
 TEST(Positioning, HeadingFollowsTurning) {
   // Spinning on the spot at 0.07 m/s per wheel: 1 rad/s.
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0"), Controllers("", "left=\"-0.07\" right=\"0.07\"")));
+  auto sim =
+      LoadXml(Experiment(Robot("r", "0,0,0"), Controllers("", "left=\"-0.07\" right=\"0.07\"")));
   for (int t = 0; t < 6; ++t) sim->Step();
   const Fix f = Probe(*sim, "r").fixes.back();
   EXPECT_NEAR(f.yaw, 0.5, 1e-9);  // 5 ticks of 0.1 rad
@@ -120,7 +125,8 @@ TEST(Positioning, HeadingFollowsTurning) {
 }
 
 TEST(Positioning, GaussianNoiseIsReproducibleAndSmall) {
-  const std::string noisy = Controllers("noise=\"gaussian\" noise_std_dev=\"0.01\" angle_noise_std_dev=\"0.05\"");
+  const std::string noisy =
+      Controllers("noise=\"gaussian\" noise_std_dev=\"0.01\" angle_noise_std_dev=\"0.05\"");
   auto a = LoadXml(Experiment(Robot("r", "0.5,0.5,0", "30,0,0"), noisy));
   auto b = LoadXml(Experiment(Robot("r", "0.5,0.5,0", "30,0,0"), noisy));
   for (int t = 0; t < 50; ++t) {
@@ -148,7 +154,8 @@ TEST(Positioning, GaussianNoiseIsReproducibleAndSmall) {
 }
 
 TEST(Positioning, UniformNoiseStaysWithinItsRangeAndHeadingIsExactWithoutAngleNoise) {
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0", "60,0,0"), Controllers("noise=\"uniform\" noise_range=\"-0.02,0.02\"")));
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0", "60,0,0"),
+                                Controllers("noise=\"uniform\" noise_range=\"-0.02,0.02\"")));
   for (int t = 0; t < 30; ++t) sim->Step();
   for (const Fix& f : Probe(*sim, "r").fixes) {
     EXPECT_LE(std::abs(f.x), 0.02);
@@ -158,7 +165,8 @@ TEST(Positioning, UniformNoiseStaysWithinItsRangeAndHeadingIsExactWithoutAngleNo
 }
 
 TEST(Positioning, BadAngleNoiseIsReported) {
-  const std::string message = LoadError(Experiment(Robot("r", "0,0,0"), Controllers("angle_noise_std_dev=\"-1\"")));
+  const std::string message =
+      LoadError(Experiment(Robot("r", "0,0,0"), Controllers("angle_noise_std_dev=\"-1\"")));
   EXPECT_NE(message.find("attribute 'angle_noise_std_dev'"), std::string::npos) << message;
   EXPECT_NE(message.find(">= 0"), std::string::npos) << message;
 }

@@ -12,7 +12,8 @@ class ProximitySensor : public Sensor {
  public:
   struct Reading {
     float value;  // 0: nothing in range; rises as an object nears; 1: touching (within 1 cm)
-    float angle;  // direction of the sensor in the robot's frame, counter-clockwise from the front (rad)
+    float angle;  // direction of the sensor in the robot's frame, counter-clockwise from the front
+                  // (rad)
   };
   // One reading per sensor, in ring order.
   const std::vector<Reading>& readings() const { return readings_; }

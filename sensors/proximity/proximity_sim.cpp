@@ -3,8 +3,6 @@
 // the space. A reading falls with the distance d to the nearest hit:
 //   value = min(1, 0.01 m / d)   (1 within 1 cm, 0.1 at 10 cm, 0 beyond range)
 // then noise is added and the value clamped to [0, 1].
-#include "sensors/proximity/proximity.h"
-
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -15,6 +13,7 @@
 #include "core/entity_type.h"
 #include "core/geometry2d.h"
 #include "core/simulation.h"
+#include "sensors/proximity/proximity.h"
 
 namespace colony {
 namespace {

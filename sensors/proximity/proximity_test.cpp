@@ -86,14 +86,16 @@ TEST(Proximity, MarxbotHas24SensorsFifteenDegreesApartFromSevenAndAHalf) {
 }
 
 TEST(Proximity, NothingInRangeReadsZero) {
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Box("far", "0.2,0.2,0.2", "0.5,0,0"), Controllers()));
+  auto sim = LoadXml(
+      Experiment(Robot("r", "0,0,0") + Box("far", "0.2,0.2,0.2", "0.5,0,0"), Controllers()));
   sim->Step();
   for (const auto& x : Readings(*sim, "r")) EXPECT_EQ(x.value, 0.0f) << "angle " << x.angle;
 }
 
 TEST(Proximity, BoxInFrontIsSeenByTheFrontSensorsOnly) {
   // Box face 5 cm in front of the body (the body's radius is 8.5 cm).
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.185,0,0"), Controllers()));
+  auto sim = LoadXml(
+      Experiment(Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.185,0,0"), Controllers()));
   sim->Step();
   const auto& r = Readings(*sim, "r");
   ASSERT_EQ(r.size(), 24u);
@@ -115,9 +117,10 @@ TEST(Proximity, BoxInFrontIsSeenByTheFrontSensorsOnly) {
 TEST(Proximity, ReadingsFollowTheRobotsHeading) {
   // Box at +y; the robot faces +y (yaw 90 degrees): its front sensors see it.
   // A second robot faces +x with a box at +y: its left sensors (90 degrees) see it.
-  auto sim = LoadXml(Experiment(Robot("north", "-1,0,0", 90) + Box("b1", "0.6,0.1,0.2", "-1,0.185,0") +
-                                    Robot("east", "1,0,0", 0) + Box("b2", "0.6,0.1,0.2", "1,0.185,0"),
-                                Controllers()));
+  auto sim =
+      LoadXml(Experiment(Robot("north", "-1,0,0", 90) + Box("b1", "0.6,0.1,0.2", "-1,0.185,0") +
+                             Robot("east", "1,0,0", 0) + Box("b2", "0.6,0.1,0.2", "1,0.185,0"),
+                         Controllers()));
   sim->Step();
   const auto& north = Readings(*sim, "north");
   EXPECT_GT(north[0].value, 0.18f);
@@ -140,7 +143,8 @@ TEST(Proximity, ReadingsFallWithDistance) {
   for (int k = 0; k < 3; ++k) {
     const std::string y = std::to_string(-1.0 + k);
     arena += Robot("r" + std::to_string(k), "0," + y + ",0") +
-             Box("b" + std::to_string(k), "0.1,0.6,0.2", std::to_string(0.085 + gaps[k] + 0.05) + "," + y + ",0");
+             Box("b" + std::to_string(k), "0.1,0.6,0.2",
+                 std::to_string(0.085 + gaps[k] + 0.05) + "," + y + ",0");
   }
   auto sim = LoadXml(Experiment(arena, Controllers()));
   sim->Step();
@@ -156,7 +160,8 @@ TEST(Proximity, ReadingsFallWithDistance) {
 
 TEST(Proximity, TouchingReadsOne) {
   // Within 1 cm of the body: saturated at 1.
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.14,0,0"), Controllers()));
+  auto sim =
+      LoadXml(Experiment(Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.14,0,0"), Controllers()));
   sim->Step();
   const auto& r = Readings(*sim, "r");
   EXPECT_EQ(r[0].value, 1.0f);
@@ -175,7 +180,8 @@ TEST(Proximity, DefaultRangeIsTenCentimetresFromTheBody) {
 }
 
 TEST(Proximity, RangeAttributeWidensOrNarrowsTheRange) {
-  const std::string arena = Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.285,0,0");  // face 15 cm away
+  const std::string arena =
+      Robot("r", "0,0,0") + Box("b", "0.1,0.6,0.2", "0.285,0,0");  // face 15 cm away
   {
     auto sim = LoadXml(Experiment(arena, Controllers()));
     sim->Step();
@@ -196,7 +202,8 @@ TEST(Proximity, RangeAttributeWidensOrNarrowsTheRange) {
 }
 
 TEST(Proximity, BadRangeIsReported) {
-  const std::string message = LoadError(Experiment(Robot("r", "0,0,0"), Controllers("range=\"-0.1\"")));
+  const std::string message =
+      LoadError(Experiment(Robot("r", "0,0,0"), Controllers("range=\"-0.1\"")));
   EXPECT_NE(message.find("<proximity>"), std::string::npos) << message;
   EXPECT_NE(message.find("attribute 'range'"), std::string::npos) << message;
   EXPECT_NE(message.find("> 0"), std::string::npos) << message;
@@ -207,10 +214,11 @@ TEST(Proximity, BadRangeIsReported) {
 TEST(Proximity, LowObjectsAreNotSeen) {
   // The sensors are 6 cm above the floor: a 3 cm high box passes under them,
   // and so does a box hanging above them.
-  auto sim = LoadXml(Experiment(Robot("low", "0,-1,0") + Box("b1", "0.1,0.6,0.03", "0.185,-1,0") +
-                                    Robot("high", "0,1,0") + Box("b2", "0.1,0.6,0.2", "0.185,1,0.1") +
-                                    Robot("seen", "-1,0,0") + Box("b3", "0.1,0.6,0.07", "-0.815,0,0"),
-                                Controllers()));
+  auto sim =
+      LoadXml(Experiment(Robot("low", "0,-1,0") + Box("b1", "0.1,0.6,0.03", "0.185,-1,0") +
+                             Robot("high", "0,1,0") + Box("b2", "0.1,0.6,0.2", "0.185,1,0.1") +
+                             Robot("seen", "-1,0,0") + Box("b3", "0.1,0.6,0.07", "-0.815,0,0"),
+                         Controllers()));
   sim->Step();
   EXPECT_EQ(MaxOf(Readings(*sim, "low")), 0.0f);
   EXPECT_EQ(MaxOf(Readings(*sim, "high")), 0.0f);
@@ -220,11 +228,11 @@ TEST(Proximity, LowObjectsAreNotSeen) {
 TEST(Proximity, OtherRobotsAndCylindersAreSeenLightsAreNot) {
   // Another marXbot 5 cm behind (surface to surface), a cylinder 3 cm to the
   // right, and a light right in front (lights are not solid).
-  auto sim = LoadXml(Experiment(
-      Robot("r", "0,0,0") + Robot("other", "-0.22,0,0") +
-          "<cylinder id=\"c\" radius=\"0.05\" height=\"0.2\"><body position=\"0,-0.165,0\"/></cylinder>"
-          "<light id=\"l\" position=\"0.1,0,0.06\"/>",
-      Controllers()));
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Robot("other", "-0.22,0,0") +
+                                    "<cylinder id=\"c\" radius=\"0.05\" height=\"0.2\"><body "
+                                    "position=\"0,-0.165,0\"/></cylinder>"
+                                    "<light id=\"l\" position=\"0.1,0,0.06\"/>",
+                                Controllers()));
   sim->Step();
   const auto& r = Readings(*sim, "r");
   // Back: sensors 11 and 12 (172.5 and 187.5 degrees) look at the other robot.
@@ -242,7 +250,8 @@ TEST(Proximity, OtherRobotsAndCylindersAreSeenLightsAreNot) {
 
 TEST(Proximity, WallsAreSeen) {
   // 4 x 4 arena with 10 cm walls: the inner face of the east wall is at x = 1.9.
-  auto sim = LoadXml(Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>" + Robot("r", "1.76,0,0"), Controllers()));
+  auto sim = LoadXml(Experiment(
+      "<walls thickness=\"0.1\" height=\"0.5\"/>" + Robot("r", "1.76,0,0"), Controllers()));
   sim->Step();
   EXPECT_NEAR(Readings(*sim, "r")[0].value, 0.01 / RayToPlane(DegToRad(7.5), 1.9 - 1.76), 1e-4);
 }
@@ -309,9 +318,11 @@ TEST(Proximity, NoiseAttributesAreChecked) {
   const std::string robot = Robot("r", "0,0,0");
   const std::string missing = LoadError(Experiment(robot, Controllers("noise=\"gaussian\"")));
   EXPECT_NE(missing.find("noise_std_dev"), std::string::npos) << missing;
-  const std::string kind = LoadError(Experiment(robot, Controllers("noise=\"gausian\" noise_std_dev=\"0.1\"")));
+  const std::string kind =
+      LoadError(Experiment(robot, Controllers("noise=\"gausian\" noise_std_dev=\"0.1\"")));
   EXPECT_NE(kind.find("did you mean 'gaussian'"), std::string::npos) << kind;
-  const std::string range = LoadError(Experiment(robot, Controllers("noise=\"uniform\" noise_range=\"0.1,-0.1\"")));
+  const std::string range =
+      LoadError(Experiment(robot, Controllers("noise=\"uniform\" noise_range=\"0.1,-0.1\"")));
   EXPECT_NE(range.find("noise_range"), std::string::npos) << range;
   const std::string drop = LoadError(Experiment(robot, Controllers("drop_probability=\"1.5\"")));
   EXPECT_NE(drop.find("drop_probability"), std::string::npos) << drop;

@@ -15,7 +15,8 @@ class RangeAndBearingSensor : public Sensor {
  public:
   struct Packet {
     float range;      // distance between the sender's and the receiver's centres (m)
-    float bearing;    // horizontal direction of the sender in the receiver's frame, ccw from the front (rad, (-pi, pi])
+    float bearing;    // horizontal direction of the sender in the receiver's frame, ccw from the
+                      // front (rad, (-pi, pi])
     float elevation;  // vertical angle of the sender above the receiver's horizontal plane (rad)
     std::span<const uint8_t> data;  // the sender's payload; valid until the next tick
   };

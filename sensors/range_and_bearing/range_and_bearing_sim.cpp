@@ -4,8 +4,6 @@
 // the medium's occlusion check, a message whose straight path crosses a
 // solid body other than sender and receiver is lost. Then each message may
 // be dropped (drop_probability) and its range and bearing made noisy.
-#include "sensors/range_and_bearing/range_and_bearing.h"
-
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -15,6 +13,7 @@
 #include "media/fast_math.h"
 #include "media/occlusion.h"
 #include "media/range_and_bearing/range_and_bearing_medium.h"
+#include "sensors/range_and_bearing/range_and_bearing.h"
 
 namespace colony {
 namespace {
@@ -94,7 +93,8 @@ class RabSensorSystem : public SensorSystem {
         if (m.slot == self) continue;
         __builtin_prefetch(medium.payload_bytes() + m.data - sizeof(uint32_t));  // read at the end
         heard[kept++] = heard[j];
-        farthest2 = std::max(farthest2, (m.x - p.x()) * (m.x - p.x()) + (m.y - p.y()) * (m.y - p.y()));
+        farthest2 =
+            std::max(farthest2, (m.x - p.x()) * (m.x - p.x()) + (m.y - p.y()) * (m.y - p.y()));
       }
       n = kept;
       if (occlusions && n > 0) {
@@ -104,7 +104,8 @@ class RabSensorSystem : public SensorSystem {
           kept = 0;
           for (size_t j = 0; j < n; ++j) {
             const auto& m = messages[heard[j]];
-            if (!scratch.occluders.Blocked(p, Vec3(m.x, m.y, m.z), m.slot)) heard[kept++] = heard[j];
+            if (!scratch.occluders.Blocked(p, Vec3(m.x, m.y, m.z), m.slot))
+              heard[kept++] = heard[j];
           }
           n = kept;
         }
@@ -112,8 +113,8 @@ class RabSensorSystem : public SensorSystem {
       // Into the receiver's frame with the distances, then bearing and
       // elevation of all of them in one branch-free loop (vectorized).
       if (scratch.x.size() < n) {
-        for (auto* v : {&scratch.x, &scratch.y, &scratch.z, &scratch.horizontal, &scratch.range, &scratch.bearing,
-                        &scratch.elevation}) {
+        for (auto* v : {&scratch.x, &scratch.y, &scratch.z, &scratch.horizontal, &scratch.range,
+                        &scratch.bearing, &scratch.elevation}) {
           v->resize(2 * n);
         }
       }
@@ -145,8 +146,10 @@ class RabSensorSystem : public SensorSystem {
       for (size_t j = 0; j < n; ++j) {
         if (noise_.Drop(r.rng)) continue;
         float rg = range[j], br = bearing[j];
-        if (noise_.kind != NoiseModel::Kind::kNone) rg = static_cast<float>(std::max(0.0, noise_.Apply(rg, r.rng)));
-        if (bearing_noise_ > 0) br = static_cast<float>(WrapAngle(br + r.rng.Gaussian(0, bearing_noise_)));
+        if (noise_.kind != NoiseModel::Kind::kNone)
+          rg = static_cast<float>(std::max(0.0, noise_.Apply(rg, r.rng)));
+        if (bearing_noise_ > 0)
+          br = static_cast<float>(WrapAngle(br + r.rng.Gaussian(0, bearing_noise_)));
         packets.push_back({rg, br, elevation[j], medium.payload(messages[heard[j]])});
       }
     }
@@ -172,21 +175,24 @@ class RabSensorSystem : public SensorSystem {
 
 std::vector<AttributeDoc> RabSensorAttributes() {
   std::vector<AttributeDoc> a = {
-      {"medium", "the id of a <range_and_bearing> in <media>", "the only one, or one with default settings",
-       "which medium the messages come from"},
+      {"medium", "the id of a <range_and_bearing> in <media>",
+       "the only one, or one with default settings", "which medium the messages come from"},
       {"noise", "none, gaussian, uniform", "none", "noise added to each message's range"},
-      {"noise_std_dev", "a number >= 0 (m)", "0", "standard deviation of gaussian noise on the range"},
+      {"noise_std_dev", "a number >= 0 (m)", "0",
+       "standard deviation of gaussian noise on the range"},
       {"noise_range", "\"min,max\" (m)", "0,0", "bounds of uniform noise on the range"},
       {"drop_probability", "a number in [0, 1]", "0", "probability that a message is lost"},
-      {"bearing_noise_std_dev", "a number >= 0 (rad)", "0", "standard deviation of gaussian noise on the bearing"},
+      {"bearing_noise_std_dev", "a number >= 0 (rad)", "0",
+       "standard deviation of gaussian noise on the bearing"},
   };
   return a;
 }
 
-COLONY_REGISTER_SENSOR(RabSensorSystem, "range_and_bearing", "default",
-                       "range-and-bearing receiver: the messages of the robots within range this tick, each "
-                       "with the sender's range, bearing and elevation in the robot's frame",
-                       RabSensorAttributes());
+COLONY_REGISTER_SENSOR(
+    RabSensorSystem, "range_and_bearing", "default",
+    "range-and-bearing receiver: the messages of the robots within range this tick, each "
+    "with the sender's range, bearing and elevation in the robot's frame",
+    RabSensorAttributes());
 
 }  // namespace
 }  // namespace colony

@@ -16,9 +16,15 @@ struct RopeTractionInstance : RopeTractionSensor, InstanceBase {
   using Interface = RopeTractionSensor;
   void Set(const RopeState& rope, double traction) {
     switch (rope.status) {
-      case RopeState::Status::kStowed: status_ = Status::kStowed; break;
-      case RopeState::Status::kAttached: status_ = Status::kAttached; break;
-      case RopeState::Status::kFailed: status_ = Status::kLaunchFailed; break;
+      case RopeState::Status::kStowed:
+        status_ = Status::kStowed;
+        break;
+      case RopeState::Status::kAttached:
+        status_ = Status::kAttached;
+        break;
+      case RopeState::Status::kFailed:
+        status_ = Status::kLaunchFailed;
+        break;
     }
     length_ = rope.length;
     traction_ = traction;
@@ -30,7 +36,9 @@ class RopeTractionSystem : public SensorSystem {
  public:
   void Configure(const ConfigNode& node) override { noise_ = NoiseModel::Read(node); }
   std::vector<std::string> NeededComponents() const override { return {RopeState::kComponentName}; }
-  Sensor* Attach(EntityHandle robot, const RandomStream& rng) override { return &instances_.Add(robot, rng); }
+  Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
+    return &instances_.Add(robot, rng);
+  }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<RopeTractionSensor*>(s)); }
   size_t size() const override { return instances_.size(); }
 
@@ -52,7 +60,8 @@ class RopeTractionSystem : public SensorSystem {
     for (size_t k = 0; k < instances_.size(); ++k) {
       const auto& s = instances_[k];
       if (!s.alive) continue;
-      const double v[4] = {static_cast<double>(s.status()), s.length(), s.traction(), s.stalled() ? 1.0 : 0.0};
+      const double v[4] = {static_cast<double>(s.status()), s.length(), s.traction(),
+                           s.stalled() ? 1.0 : 0.0};
       h.Add(v, sizeof v);
     }
   }
@@ -62,10 +71,11 @@ class RopeTractionSystem : public SensorSystem {
   InstanceStore<RopeTractionInstance> instances_;
 };
 
-COLONY_REGISTER_SENSOR(RopeTractionSystem, "rope_traction", "default",
-                       "the hand-bot's rope: stowed / attached / launch failed, length (m), traction (N), "
-                       "motor stalled (needs an engine that simulates the rope: dynamics3d)",
-                       NoiseModel::Attributes());
+COLONY_REGISTER_SENSOR(
+    RopeTractionSystem, "rope_traction", "default",
+    "the hand-bot's rope: stowed / attached / launch failed, length (m), traction (N), "
+    "motor stalled (needs an engine that simulates the rope: dynamics3d)",
+    NoiseModel::Attributes());
 
 }  // namespace
 }  // namespace colony

@@ -8,9 +8,9 @@ namespace colony {
 
 class WheelEncoders : public Sensor {
  public:
-  double distance_left() const { return left_; }    // m, negative when turning backwards
-  double distance_right() const { return right_; }  // m
-  double wheel_base() const { return wheel_base_; } // m, between the wheels
+  double distance_left() const { return left_; }     // m, negative when turning backwards
+  double distance_right() const { return right_; }   // m
+  double wheel_base() const { return wheel_base_; }  // m, between the wheels
 
  protected:
   double left_ = 0, right_ = 0, wheel_base_ = 0;

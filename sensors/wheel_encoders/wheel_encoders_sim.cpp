@@ -26,7 +26,9 @@ class EncoderSystem : public SensorSystem {
     noise_ = NoiseModel::Read(node);
     slip_ = node.GetDouble("slip", 0, Range::Between(0, 1));
   }
-  std::vector<std::string> NeededComponents() const override { return {DriveState::kComponentName}; }
+  std::vector<std::string> NeededComponents() const override {
+    return {DriveState::kComponentName};
+  }
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
     return &instances_.Add(robot, rng);
   }

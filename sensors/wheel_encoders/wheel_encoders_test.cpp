@@ -46,13 +46,14 @@ class EncoderProbe : public Controller {
   DifferentialSteering* wheels_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(EncoderProbe, "encoder_probe", "test: drives and sums wheel encoder readings");
+COLONY_REGISTER_CONTROLLER(EncoderProbe, "encoder_probe",
+                           "test: drives and sums wheel encoder readings");
 
 std::string Controllers(const std::string& params, const std::string& encoder_attributes = "",
                         const std::string& steering_attributes = "") {
   return "<encoder_probe id=\"ep\"><sensors><wheel_encoders " + encoder_attributes +
-         "/></sensors><actuators><differential_steering " + steering_attributes + "/></actuators><params " +
-         params + "/></encoder_probe>";
+         "/></sensors><actuators><differential_steering " + steering_attributes +
+         "/></actuators><params " + params + "/></encoder_probe>";
 }
 
 std::string Robot(const std::string& id, const std::string& position, double yaw_degrees = 0) {
@@ -86,7 +87,7 @@ TEST(WheelEncoders, OneSecondAtTenCentimetresPerSecondIsTenCentimetres) {
 TEST(WheelEncoders, AccelerationLimitShowsInTheFirstTicks) {
   // 0.5 m/s^2 at 10 ticks per second: +0.05 m/s per tick up to 0.2 m/s.
   auto sim = LoadXml(Experiment(Robot("r", "0,0,0"), Controllers("left=\"0.2\" right=\"0.2\"", "",
-                                                                  "max_acceleration=\"0.5\"")));
+                                                                 "max_acceleration=\"0.5\"")));
   for (int t = 0; t < 10; ++t) sim->Step();
   const EncoderProbe& p = Probe(*sim, "r");
   const double expected[] = {0.005, 0.01, 0.015, 0.02, 0.02, 0.02, 0.02, 0.02, 0.02, 0.02};
@@ -100,7 +101,8 @@ TEST(WheelEncoders, AccelerationLimitShowsInTheFirstTicks) {
 }
 
 TEST(WheelEncoders, BackwardsIsNegative) {
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0"), Controllers("left=\"-0.05\" right=\"-0.05\"")));
+  auto sim =
+      LoadXml(Experiment(Robot("r", "0,0,0"), Controllers("left=\"-0.05\" right=\"-0.05\"")));
   for (int t = 0; t < 10; ++t) sim->Step();
   EXPECT_NEAR(Probe(*sim, "r").SumLeft(), -0.05, 1e-9);
   EXPECT_NEAR(Position(*sim, "r").x(), -0.05, 1e-9);
@@ -120,9 +122,10 @@ TEST(WheelEncoders, TurningGivesDifferentDistancesThatMatchTheHeading) {
 TEST(WheelEncoders, RobotBlockedByAWallReportsLess) {
   // The east wall's inner face is at x = 1.9; the free robot drives in the
   // open, the blocked one starts 1 cm from the wall.
-  auto sim = LoadXml(Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>" + Robot("free", "0,0,0") +
-                                    Robot("blocked", std::to_string(1.9 - 0.085 - 0.01) + ",1,0"),
-                                Controllers("left=\"0.1\" right=\"0.1\"")));
+  auto sim =
+      LoadXml(Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>" + Robot("free", "0,0,0") +
+                             Robot("blocked", std::to_string(1.9 - 0.085 - 0.01) + ",1,0"),
+                         Controllers("left=\"0.1\" right=\"0.1\"")));
   for (int t = 0; t < 10; ++t) sim->Step();
   const EncoderProbe& free_robot = Probe(*sim, "free");
   const EncoderProbe& blocked = Probe(*sim, "blocked");
@@ -139,8 +142,9 @@ TEST(WheelEncoders, RobotBlockedByAWallReportsLess) {
 TEST(WheelEncoders, BlockedRobotTurningOnTheSpotStillCountsTheTurn) {
   // Pressed against the wall and spinning: the wheels turn in opposite
   // directions as much as commanded.
-  auto sim = LoadXml(Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>" + Robot("r", "1.814,0,0"),
-                                Controllers("left=\"-0.05\" right=\"0.05\"")));
+  auto sim =
+      LoadXml(Experiment("<walls thickness=\"0.1\" height=\"0.5\"/>" + Robot("r", "1.814,0,0"),
+                         Controllers("left=\"-0.05\" right=\"0.05\"")));
   for (int t = 0; t < 10; ++t) sim->Step();
   EXPECT_NEAR(Probe(*sim, "r").SumLeft(), -0.05, 1e-9);
   EXPECT_NEAR(Probe(*sim, "r").SumRight(), 0.05, 1e-9);
@@ -172,8 +176,9 @@ TEST(WheelEncoders, SlipShortensTheReadingsReproducibly) {
 }
 
 TEST(WheelEncoders, NoiseIsAdded) {
-  auto sim = LoadXml(Experiment(Robot("r", "0,0,0"), Controllers("left=\"0.1\" right=\"0.1\"",
-                                                                  "noise=\"uniform\" noise_range=\"-0.001,0.001\"")));
+  auto sim = LoadXml(Experiment(
+      Robot("r", "0,0,0"),
+      Controllers("left=\"0.1\" right=\"0.1\"", "noise=\"uniform\" noise_range=\"-0.001,0.001\"")));
   for (int t = 0; t < 10; ++t) sim->Step();
   int differ = 0;
   for (double d : Probe(*sim, "r").left) {
@@ -184,7 +189,8 @@ TEST(WheelEncoders, NoiseIsAdded) {
 }
 
 TEST(WheelEncoders, BadSlipIsReported) {
-  const std::string message = LoadError(Experiment(Robot("r", "0,0,0"), Controllers("", "slip=\"2\"")));
+  const std::string message =
+      LoadError(Experiment(Robot("r", "0,0,0"), Controllers("", "slip=\"2\"")));
   EXPECT_NE(message.find("attribute 'slip'"), std::string::npos) << message;
   EXPECT_NE(message.find("[0, 1]"), std::string::npos) << message;
 }

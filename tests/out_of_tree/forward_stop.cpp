@@ -1,11 +1,11 @@
 // Drives forwards and stops for good once a front proximity sensor reads
 // more than 0.5 (an obstacle within 2 cm); lights its LEDs red when stopped.
-#include <cmath>
-
 #include <colony/actuators/differential_steering/differential_steering.h>
 #include <colony/actuators/leds/leds.h>
 #include <colony/core/registry.h>
 #include <colony/sensors/proximity/proximity.h>
+
+#include <cmath>
 
 class ForwardStop : public colony::Controller {
  public:
@@ -31,4 +31,5 @@ class ForwardStop : public colony::Controller {
   colony::Leds* leds_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(ForwardStop, "forward_stop", "drive forwards, stop in front of an obstacle");
+COLONY_REGISTER_CONTROLLER(ForwardStop, "forward_stop",
+                           "drive forwards, stop in front of an obstacle");
