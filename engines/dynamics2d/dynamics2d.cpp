@@ -2,16 +2,14 @@
 //
 // The floor is the plane of the world (no gravity in it). Objects slide on it
 // against friction, modelled by a friction joint to a fixed ground body whose
-// maximum force is floor_friction x m x g. A wheeled robot is a circular body
-// driven towards the velocity its wheels command (forwards speed and turn
-// rate, no sideways motion) by a force and a torque that cannot exceed
-// robot_max_force and robot_max_torque: when it pushes too hard the wheels
-// slip and it falls behind its command. Movable objects are pushed; fixed
-// ones are static bodies nothing can move. A robot gripping welds the thing
-// in front of its jaws (a movable object, another robot) to its body until it
-// releases; a grip does not survive the robot or the held thing leaving this
-// engine (migrating to another engine's region, or being removed).
-#include <box2d/box2d.h>
+// maximum force is floor_friction x m x g. Every entity is one body of its
+// footprint: fixed ones static bodies nothing can move, movable ones dynamic
+// bodies of their mass. The engine knows no robot: each entity type's model
+// (dynamics2d.h) adds what the type needs, composing the pieces there: floor
+// friction for objects, treels (force- and torque-limited differential drive
+// that slips when it pushes too hard) and a weld gripper for the marXbot
+// (entities/marxbot/dynamics2d_model.cpp).
+#include "engines/dynamics2d/dynamics2d.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,48 +17,149 @@
 #include <vector>
 
 #include "actuators/gripper/gripper_state.h"
-#include "core/engine.h"
 #include "core/simulation.h"
 
 namespace colony {
+namespace dynamics2d {
+
+Space& Engine::entities() { return sim().space(); }
+
+void Engine::AddFloorFriction(uint32_t s) {
+  const Space& space = sim().space();
+  b2Body* body = bodies_[s];
+  const double mass = space.mass(s) > 0 ? space.mass(s) : 1.0;
+  b2FrictionJointDef joint;
+  joint.Initialize(ground_, body, body->GetWorldCenter());
+  const double weight = params_.floor_friction * mass * kGravity;
+  joint.maxForce = static_cast<float>(weight);
+  joint.maxTorque = static_cast<float>(weight * 0.5 * space.geometry(s).BoundingRadius());
+  world_->CreateJoint(&joint);
+}
+
+uint32_t Engine::MovableAt(const b2Vec2& p, const b2Body* self) {
+  struct Query : b2QueryCallback {
+    b2Vec2 point;
+    const b2Body* self;
+    uint32_t found = kNone;
+    bool ReportFixture(b2Fixture* f) override {
+      b2Body* b = f->GetBody();
+      if (b != self && b->GetType() == b2_dynamicBody && f->TestPoint(point)) {
+        found = std::min(found, static_cast<uint32_t>(b->GetUserData().pointer));
+      }
+      return true;
+    }
+  } query;
+  query.point = p;
+  query.self = self;
+  b2AABB box;
+  box.lowerBound = p - b2Vec2(0.001f, 0.001f);
+  box.upperBound = p + b2Vec2(0.001f, 0.001f);
+  world_->QueryAABB(&query, box);
+  return query.found;
+}
+
+// ---------------------------------------------------------------------------
+// Treels.
+
+void Treels::Add(Engine& engine, uint32_t s) {
+  engine.BodyOf(s)->SetSleepingAllowed(false);
+  slots_.push_back(s);
+}
+
+void Treels::Remove(uint32_t s) {
+  auto it = std::find(slots_.begin(), slots_.end(), s);
+  if (it != slots_.end()) slots_.erase(it);
+}
+
+void Treels::Drive(Engine& engine, double h) {
+  const Space& space = engine.entities();
+  const double max_force = engine.params().robot_max_force;
+  const double max_torque = engine.params().robot_max_torque;
+  for (uint32_t s : slots_) {
+    b2Body* body = engine.BodyOf(s);
+    const DriveState& d = *space.drive(s);
+    const double v = 0.5 * (d.left + d.right);
+    const double w = (d.right - d.left) / d.wheel_base;
+    const double angle = body->GetAngle();
+    const b2Vec2 vel = body->GetLinearVelocity();
+    const double m = body->GetMass();
+    double fx = m * (v * std::cos(angle) - vel.x) / h;
+    double fy = m * (v * std::sin(angle) - vel.y) / h;
+    const double f = std::hypot(fx, fy);
+    if (f > max_force) {
+      fx *= max_force / f;
+      fy *= max_force / f;
+    }
+    const double torque = std::clamp(body->GetInertia() * (w - body->GetAngularVelocity()) / h,
+                                     -max_torque, max_torque);
+    body->ApplyForceToCenter(b2Vec2(static_cast<float>(fx), static_cast<float>(fy)), true);
+    body->ApplyTorque(static_cast<float>(torque), true);
+  }
+}
+
+void Treels::WriteOdometry(Engine& engine, double dt) {
+  Space& space = engine.entities();
+  for (uint32_t s : slots_) {
+    const b2Body* body = engine.BodyOf(s);
+    const b2Vec2 v = body->GetLinearVelocity();
+    const double angle = body->GetAngle();
+    const double w = body->GetAngularVelocity();
+    // What the treels really did: forwards speed and turn rate of the body.
+    DriveState& d = *space.drive(s);
+    const double forward = v.x * std::cos(angle) + v.y * std::sin(angle);
+    d.travelled_left = (forward - 0.5 * w * d.wheel_base) * dt;
+    d.travelled_right = (forward + 0.5 * w * d.wheel_base) * dt;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Weld gripper.
+
+void WeldGripper::Update(Engine& engine, const std::vector<uint32_t>& robots) {
+  Space& space = engine.entities();
+  for (size_t k = grips_.size(); k-- > 0;) {
+    if (!space.Get<GripperState>(grips_[k].robot)->want_grip) Ungrip(engine, k);
+  }
+  for (uint32_t s : robots) {
+    GripperState* g = space.Get<GripperState>(s);
+    if (!g || !g->want_grip || g->holding()) continue;
+    b2Body* body = engine.BodyOf(s);
+    const double angle = body->GetAngle() + g->turret;
+    const b2Vec2 dir(static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle)));
+    const float radius = static_cast<float>(space.geometry(s).radius);
+    // The jaws close on the nearest body within reach, the lowest slot first.
+    for (int step = 1; step <= 4 && !g->holding(); ++step) {
+      const b2Vec2 p =
+          body->GetPosition() + (radius + static_cast<float>(g->reach * step / 4)) * dir;
+      const uint32_t target = engine.MovableAt(p, body);
+      if (target == kNone) continue;
+      b2WeldJointDef joint;
+      joint.Initialize(body, engine.BodyOf(target), p);
+      grips_.push_back({s, target, engine.world().CreateJoint(&joint)});
+      g->held = target;
+    }
+  }
+}
+
+void WeldGripper::Forget(Engine& engine, uint32_t s) {
+  for (size_t k = grips_.size(); k-- > 0;) {
+    if (grips_[k].robot == s || grips_[k].target == s) Ungrip(engine, k);
+  }
+}
+
+void WeldGripper::Ungrip(Engine& engine, size_t k) {
+  engine.world().DestroyJoint(grips_[k].joint);
+  if (GripperState* g = engine.entities().Get<GripperState>(grips_[k].robot)) g->held = kNone;
+  grips_.erase(grips_.begin() + static_cast<std::ptrdiff_t>(k));
+}
+
+// ---------------------------------------------------------------------------
 namespace {
 
-constexpr double kGravity = 9.81;
-
-class Dynamics2dModel : public PhysicsModel {
+class Dynamics2dEngine : public Engine {
  public:
-  explicit Dynamics2dModel(bool wheeled) : wheeled_(wheeled) {}
-  bool wheeled() const { return wheeled_; }
-
- private:
-  bool wheeled_;
-};
-
-class WheeledRobotModel : public Dynamics2dModel {
- public:
-  WheeledRobotModel() : Dynamics2dModel(true) {}
-};
-
-class ObjectModel : public Dynamics2dModel {
- public:
-  ObjectModel() : Dynamics2dModel(false) {}
-};
-
-COLONY_REGISTER_PHYSICS_MODEL(
-    WheeledRobotModel, "dynamics2d:marxbot",
-    "circular body driven by force- and torque-limited treels (slip when pushing hard)",
-    (std::vector<std::string>{"drive", "gripper"}));
-COLONY_REGISTER_PHYSICS_MODEL(ObjectModel, "dynamics2d:box",
-                              "box: pushed against floor friction if movable, static otherwise",
-                              (std::vector<std::string>{}));
-COLONY_REGISTER_PHYSICS_MODEL(
-    ObjectModel, "dynamics2d:cylinder",
-    "cylinder: pushed against floor friction if movable, static otherwise",
-    (std::vector<std::string>{}));
-
-class Dynamics2dEngine : public PhysicsEngine {
- public:
-  Dynamics2dEngine() : world_(std::make_unique<b2World>(b2Vec2(0.0f, 0.0f))) {
+  Dynamics2dEngine() {
+    world_ = std::make_unique<b2World>(b2Vec2(0.0f, 0.0f));
     b2BodyDef ground;
     ground_ = world_->CreateBody(&ground);
   }
@@ -69,14 +168,14 @@ class Dynamics2dEngine : public PhysicsEngine {
     velocity_iterations_ = static_cast<int>(node.GetInt("iterations", 8, 1, 1000));
     position_iterations_ = static_cast<int>(node.GetInt("position_iterations", 3, 1, 1000));
     substeps_ = static_cast<int>(node.GetInt("substeps", 2, 1, 1000));
-    friction_ = node.GetDouble("friction", 0.5, Range::NonNegative());
-    floor_friction_ = node.GetDouble("floor_friction", 0.5, Range::NonNegative());
-    max_force_ = node.GetDouble("robot_max_force", 15.0, Range::Positive());
-    max_torque_ = node.GetDouble("robot_max_torque", 1.5, Range::Positive());
+    params_.friction = node.GetDouble("friction", 0.5, Range::NonNegative());
+    params_.floor_friction = node.GetDouble("floor_friction", 0.5, Range::NonNegative());
+    params_.robot_max_force = node.GetDouble("robot_max_force", 15.0, Range::Positive());
+    params_.robot_max_torque = node.GetDouble("robot_max_torque", 1.5, Range::Positive());
   }
 
-  void AddEntity(EntityHandle entity, PhysicsModel& model) override {
-    const auto& m = dynamic_cast<const Dynamics2dModel&>(model);
+  void AddEntity(EntityHandle entity, PhysicsModel& physics_model) override {
+    auto& model = dynamic_cast<Dynamics2dModel&>(physics_model);
     Space& space = sim().space();
     const uint32_t s = entity.index;
     const Pose& pose = space.pose(s);
@@ -109,138 +208,48 @@ class Dynamics2dEngine : public PhysicsEngine {
     }
     const double mass = space.mass(s) > 0 ? space.mass(s) : 1.0;
     fixture.density = movable ? static_cast<float>(mass / area) : 0.0f;
-    fixture.friction = static_cast<float>(friction_);
+    fixture.friction = static_cast<float>(params_.friction);
     body->CreateFixture(&fixture);
 
-    if (bodies_.size() <= s) bodies_.resize(s + 1, nullptr);
-    bodies_[s] = body;
-    if (!movable) return;
-    if (m.wheeled() && space.drive(s)) {
-      body->SetSleepingAllowed(false);
-      robots_.push_back(s);
-    } else {
-      // Sliding on the floor: friction against a fixed ground body.
-      b2FrictionJointDef joint;
-      joint.Initialize(ground_, body, body->GetWorldCenter());
-      const double weight = floor_friction_ * mass * kGravity;
-      joint.maxForce = static_cast<float>(weight);
-      joint.maxTorque = static_cast<float>(weight * 0.5 * g.BoundingRadius());
-      world_->CreateJoint(&joint);
-      objects_.push_back(s);
+    if (bodies_.size() <= s) {
+      bodies_.resize(s + 1, nullptr);
+      models_of_.resize(s + 1, nullptr);
     }
+    bodies_[s] = body;
+    models_of_[s] = &model;
+    if (std::find(models_.begin(), models_.end(), &model) == models_.end())
+      models_.push_back(&model);
+    if (!movable) return;
+    model.Add(*this, s);
+    movables_.push_back(s);
   }
 
   void RemoveEntity(EntityHandle entity) override {
     const uint32_t s = entity.index;
     if (s >= bodies_.size() || !bodies_[s]) return;
-    for (size_t k = grips_.size(); k-- > 0;) {
-      if (grips_[k].robot == s || grips_[k].target == s) Ungrip(sim().space(), k);
-    }
+    for (Dynamics2dModel* m : models_) m->EntityLeaving(*this, s);
+    if (sim().space().movable(s)) models_of_[s]->Remove(*this, s);
     world_->DestroyBody(bodies_[s]);  // its joints go with it
     bodies_[s] = nullptr;
-    for (auto* list : {&robots_, &objects_}) {
-      auto it = std::find(list->begin(), list->end(), s);
-      if (it != list->end()) list->erase(it);
-    }
+    models_of_[s] = nullptr;
+    auto it = std::find(movables_.begin(), movables_.end(), s);
+    if (it != movables_.end()) movables_.erase(it);
   }
 
   void Step(double dt) override {
     Space& space = sim().space();
     const double h = dt / substeps_;
-    UpdateGrips(space);
+    for (Dynamics2dModel* m : models_) m->BeforeStep(*this, dt);
     for (int k = 0; k < substeps_; ++k) {
-      for (uint32_t s : robots_) Drive(space, s, h);
+      for (Dynamics2dModel* m : models_) m->BeforeSubstep(*this, h);
       world_->Step(static_cast<float>(h), velocity_iterations_, position_iterations_);
     }
-    for (uint32_t s : robots_) WriteBack(space, s, dt, true);
-    for (uint32_t s : objects_) WriteBack(space, s, dt, false);
+    for (uint32_t s : movables_) WriteBack(space, s);
+    for (Dynamics2dModel* m : models_) m->AfterStep(*this, dt);
   }
 
  private:
-  struct Grip {
-    uint32_t robot, target;
-    b2Joint* joint;
-  };
-
-  // Releases what robots no longer want to hold; grips what is in front of
-  // the jaws of robots that want to hold something.
-  void UpdateGrips(Space& space) {
-    for (size_t k = grips_.size(); k-- > 0;) {
-      if (!space.Get<GripperState>(grips_[k].robot)->want_grip) Ungrip(space, k);
-    }
-    for (uint32_t s : robots_) {
-      GripperState* g = space.Get<GripperState>(s);
-      if (!g || !g->want_grip || g->holding()) continue;
-      b2Body* body = bodies_[s];
-      const double angle = body->GetAngle() + g->turret;
-      const b2Vec2 dir(static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle)));
-      const float radius = static_cast<float>(space.geometry(s).radius);
-      // The jaws close on the nearest body within reach, the lowest slot first.
-      for (int step = 1; step <= 4 && !g->holding(); ++step) {
-        const b2Vec2 p =
-            body->GetPosition() + (radius + static_cast<float>(g->reach * step / 4)) * dir;
-        const uint32_t target = BodyAt(p, body);
-        if (target == UINT32_MAX) continue;
-        b2WeldJointDef joint;
-        joint.Initialize(body, bodies_[target], p);
-        grips_.push_back({s, target, world_->CreateJoint(&joint)});
-        g->held = target;
-      }
-    }
-  }
-
-  // Slot of the lowest-slot movable body (not `self`) covering p, or UINT32_MAX.
-  uint32_t BodyAt(const b2Vec2& p, const b2Body* self) {
-    struct Query : b2QueryCallback {
-      b2Vec2 point;
-      const b2Body* self;
-      uint32_t found = UINT32_MAX;
-      bool ReportFixture(b2Fixture* f) override {
-        b2Body* b = f->GetBody();
-        if (b != self && b->GetType() == b2_dynamicBody && f->TestPoint(point)) {
-          found = std::min(found, static_cast<uint32_t>(b->GetUserData().pointer));
-        }
-        return true;
-      }
-    } query;
-    query.point = p;
-    query.self = self;
-    b2AABB box;
-    box.lowerBound = p - b2Vec2(0.001f, 0.001f);
-    box.upperBound = p + b2Vec2(0.001f, 0.001f);
-    world_->QueryAABB(&query, box);
-    return query.found;
-  }
-
-  void Ungrip(Space& space, size_t k) {
-    world_->DestroyJoint(grips_[k].joint);
-    if (GripperState* g = space.Get<GripperState>(grips_[k].robot)) g->held = 0xFFFFFFFFu;
-    grips_.erase(grips_.begin() + static_cast<std::ptrdiff_t>(k));
-  }
-
-  // Force and torque towards the wheels' command, within the treels' limits.
-  void Drive(Space& space, uint32_t s, double h) {
-    b2Body* body = bodies_[s];
-    const DriveState& d = *space.drive(s);
-    const double v = 0.5 * (d.left + d.right);
-    const double w = (d.right - d.left) / d.wheel_base;
-    const double angle = body->GetAngle();
-    const b2Vec2 vel = body->GetLinearVelocity();
-    const double m = body->GetMass();
-    double fx = m * (v * std::cos(angle) - vel.x) / h;
-    double fy = m * (v * std::sin(angle) - vel.y) / h;
-    const double f = std::hypot(fx, fy);
-    if (f > max_force_) {
-      fx *= max_force_ / f;
-      fy *= max_force_ / f;
-    }
-    const double torque = std::clamp(body->GetInertia() * (w - body->GetAngularVelocity()) / h,
-                                     -max_torque_, max_torque_);
-    body->ApplyForceToCenter(b2Vec2(static_cast<float>(fx), static_cast<float>(fy)), true);
-    body->ApplyTorque(static_cast<float>(torque), true);
-  }
-
-  void WriteBack(Space& space, uint32_t s, double dt, bool wheeled) {
+  void WriteBack(Space& space, uint32_t s) {
     const b2Body* body = bodies_[s];
     const b2Vec2 p = body->GetPosition();
     const b2Vec2 v = body->GetLinearVelocity();
@@ -258,22 +267,12 @@ class Dynamics2dEngine : public PhysicsEngine {
       touching = c->contact->IsTouching();
     }
     space.set_in_contact(s, touching);
-    if (!wheeled) return;
-    // What the treels really did: forwards speed and turn rate of the body.
-    DriveState& d = *space.drive(s);
-    const double forward = v.x * std::cos(angle) + v.y * std::sin(angle);
-    d.travelled_left = (forward - 0.5 * w * d.wheel_base) * dt;
-    d.travelled_right = (forward + 0.5 * w * d.wheel_base) * dt;
   }
 
-  std::unique_ptr<b2World> world_;
-  b2Body* ground_ = nullptr;
-  std::vector<b2Body*> bodies_;    // per space slot
-  std::vector<uint32_t> robots_;   // slots of wheeled robots, in the order they came
-  std::vector<uint32_t> objects_;  // slots of movable objects
-  std::vector<Grip> grips_;
+  std::vector<Dynamics2dModel*> models_;     // in the order their first entity came
+  std::vector<Dynamics2dModel*> models_of_;  // per space slot
+  std::vector<uint32_t> movables_;           // movable slots, in the order they came
   int velocity_iterations_ = 8, position_iterations_ = 3, substeps_ = 2;
-  double friction_ = 0.5, floor_friction_ = 0.5, max_force_ = 15.0, max_torque_ = 1.5;
 };
 
 COLONY_REGISTER_ENGINE(
@@ -296,4 +295,5 @@ COLONY_REGISTER_ENGINE(
     }));
 
 }  // namespace
+}  // namespace dynamics2d
 }  // namespace colony
