@@ -102,76 +102,70 @@ void Engine::AddSolid(uint32_t s, Material material) {
   if (material == kCube) cubes_.insert(std::lower_bound(cubes_.begin(), cubes_.end(), s), s);
 }
 
-bool Engine::CastRay(const Vec3& from, const Vec3& direction, double length, uint32_t ignore,
-                     RayHit& hit) {
-  if (!floor_built_) BuildFloor(sim().space());
+namespace {
+
+// Calls visit(other, contact) for every geom (fixed or movable, not one of
+// `ignore`'s) that probe geom `probe` (in no space) touches.
+template <class Visit>
+void ProbeSpaces(dSpaceID movable, dSpaceID fixed, dGeomID probe, uint32_t ignore, Visit&& visit) {
   struct Query {
-    dGeomID ray;
+    dGeomID probe;
     uint32_t ignore;
-    bool found = false;
-    RayHit* hit;
+    Visit* visit;
     static void Callback(void* data, dGeomID a, dGeomID b) {
       auto* q = static_cast<Query*>(data);
       if (dGeomIsSpace(a) || dGeomIsSpace(b)) {
         dSpaceCollide2(a, b, data, &Query::Callback);
         return;
       }
-      dGeomID other = a == q->ray ? b : a;
-      if (OwnerOf(other) == q->ignore && q->ignore != kNone) return;
+      dGeomID other = a == q->probe ? b : a;
+      if (q->ignore != kNone && Engine::OwnerOf(other) == q->ignore) return;
       dContactGeom c;
-      if (dCollide(q->ray, other, 1, &c, sizeof(dContactGeom)) == 0) return;
-      if (q->found && c.depth >= q->hit->distance) return;
-      q->found = true;
-      q->hit->distance = c.depth;
-      q->hit->point = ToVec(c.pos);
-      q->hit->material =
-          static_cast<Material>(reinterpret_cast<uintptr_t>(dGeomGetData(other)) & 7);
-      q->hit->owner = OwnerOf(other);
+      if (dCollide(q->probe, other, 1, &c, sizeof(dContactGeom)) == 0) return;
+      (*q->visit)(other, c);
     }
   };
+  Query q{probe, ignore, &visit};
+  dSpaceCollide2(probe, reinterpret_cast<dGeomID>(movable), &q, &Query::Callback);
+  dSpaceCollide2(probe, reinterpret_cast<dGeomID>(fixed), &q, &Query::Callback);
+}
+
+}  // namespace
+
+bool Engine::CastRay(const Vec3& from, const Vec3& direction, double length, uint32_t ignore,
+                     RayHit& hit) {
+  if (!floor_built_) BuildFloor(sim().space());
   dGeomID ray = dCreateRay(nullptr, length);
   dGeomRaySet(ray, from.x(), from.y(), from.z(), direction.x(), direction.y(), direction.z());
-  Query q{ray, ignore, false, &hit};
-  dSpaceCollide2(ray, reinterpret_cast<dGeomID>(space_), &q, &Query::Callback);
-  dSpaceCollide2(ray, reinterpret_cast<dGeomID>(static_), &q, &Query::Callback);
+  bool found = false;
+  ProbeSpaces(space_, static_, ray, ignore, [&](dGeomID other, const dContactGeom& c) {
+    if (found && c.depth >= hit.distance) return;
+    found = true;
+    hit.distance = c.depth;
+    hit.point = ToVec(c.pos);
+    hit.material = MaterialOf(other);
+    hit.owner = OwnerOf(other);
+  });
   dGeomDestroy(ray);
-  return q.found;
+  return found;
 }
 
 bool Engine::TouchAt(const Vec3& centre, double radius, uint32_t ignore, Touch& touch) {
   if (!floor_built_) BuildFloor(sim().space());
-  struct Query {
-    dGeomID sphere;
-    uint32_t ignore;
-    bool found = false;
-    Touch* touch;
-    static void Callback(void* data, dGeomID a, dGeomID b) {
-      auto* q = static_cast<Query*>(data);
-      if (dGeomIsSpace(a) || dGeomIsSpace(b)) {
-        dSpaceCollide2(a, b, data, &Query::Callback);
-        return;
-      }
-      dGeomID other = a == q->sphere ? b : a;
-      const uint32_t owner = OwnerOf(other);
-      if (owner == q->ignore && q->ignore != kNone) return;
-      if (q->found && owner >= q->touch->owner) return;
-      dContactGeom c;
-      if (dCollide(q->sphere, other, 1, &c, sizeof(dContactGeom)) == 0) return;
-      q->found = true;
-      q->touch->geom = other;
-      q->touch->body = dGeomGetBody(other);
-      q->touch->owner = owner;
-      q->touch->material =
-          static_cast<Material>(reinterpret_cast<uintptr_t>(dGeomGetData(other)) & 7);
-    }
-  };
   dGeomID sphere = dCreateSphere(nullptr, radius);
   dGeomSetPosition(sphere, centre.x(), centre.y(), centre.z());
-  Query q{sphere, ignore, false, &touch};
-  dSpaceCollide2(sphere, reinterpret_cast<dGeomID>(space_), &q, &Query::Callback);
-  dSpaceCollide2(sphere, reinterpret_cast<dGeomID>(static_), &q, &Query::Callback);
+  bool found = false;
+  ProbeSpaces(space_, static_, sphere, ignore, [&](dGeomID other, const dContactGeom&) {
+    const uint32_t owner = OwnerOf(other);
+    if (found && owner >= touch.owner) return;
+    found = true;
+    touch.geom = other;
+    touch.body = dGeomGetBody(other);
+    touch.owner = owner;
+    touch.material = MaterialOf(other);
+  });
   dGeomDestroy(sphere);
-  return q.found;
+  return found;
 }
 
 namespace {
