@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "actuators/rope_launcher/rope_state.h"
 #include "core/image_renderer.h"
 #include "core/output.h"
 #include "core/registry.h"
@@ -383,6 +384,90 @@ TEST(ImageRenderer, DrawsWhatTheCameraSeesExceptTheHiddenEntity) {
   EXPECT_GT(not_floor(without_below), 100);  // the robot beside is still drawn
   EXPECT_LT(not_floor(without_below), not_floor(both) - 100);
   EXPECT_EQ(draw({}), both);  // the same image again
+}
+
+// The hand-bot hanging on its rope, seen from the side: the hull where the
+// robot is, the rope above it up to the ceiling; and a marXbot's
+// construction manipulator, seen from above, in front of its body.
+TEST(ImageRenderer, DrawsTheHandBotOnItsRopeAndTheMarxbotsManipulator) {
+  unsetenv("DISPLAY");
+  ASSERT_TRUE(HaveImageRenderer());
+  auto sim = LoadXml(Experiment(
+      "<ceiling height=\"2.5\"/><handbot id=\"h\" color=\"red\"><body position=\"0,0,0\"/>"
+      "<controller config=\"red\"/></handbot><marxbot id=\"m\" manipulator=\"true\" color=\"blue\">"
+      "<body position=\"1,1,0\"/><controller config=\"red\"/></marxbot><marxbot id=\"p\" "
+      "color=\"blue\">"
+      "<body position=\"1,-1,0\"/><controller config=\"red\"/></marxbot>",
+      kRedRobots, "4,4,3", "", "<dynamics3d id=\"d3d\" stepper=\"worldstep\"/>"));
+  Space& space = sim->space();
+  RopeState& rope = *space.Get<RopeState>(space.Find("h").index);
+  rope.want_launch = true;
+  sim->Step();
+  ASSERT_TRUE(rope.attached());
+  rope.climb_speed = 0.1;
+  for (int t = 0; t < 50; ++t) sim->Step();
+  ASSERT_NEAR(space.pose(space.Find("h").index).position.z(), 0.5, 0.02);
+  const auto renderer = MakeImageRenderer(*sim);
+  // From 2 m away on -y, level with the middle of the hull (0.5 + 0.1 m up),
+  // looking along +y; 320 x 240 pixels over 40 degrees.
+  CameraView side;
+  side.position = Vec3(0, -2, 0.6);
+  side.orientation = FromEulerZYX(DegToRad(90), 0, 0);  // x (the optical axis) along +y
+  side.fov = 40;
+  side.far_clip = 10;
+  side.width = 320;
+  side.height = 240;
+  auto draw = [&](CameraView view, EntityHandle hidden) {
+    view.hidden = hidden;
+    std::vector<uint8_t> rgb;
+    renderer->Render(view, rgb);
+    return rgb;
+  };
+  auto at = [](const std::vector<uint8_t>& rgb, int width, int x, int y) {
+    const uint8_t* p = rgb.data() + (static_cast<size_t>(y) * width + x) * 3;
+    return Color{p[0], p[1], p[2], 255};
+  };
+  const auto with = draw(side, {}), without = draw(side, space.Find("h"));
+  const Color hull = at(with, 320, 160, 120);
+  EXPECT_GT(hull.r, 2 * hull.g) << "the red hull at the image's centre: " << Hex(hull);
+  EXPECT_NE(at(without, 320, 160, 120), hull);
+  // The rope: above the robot, the centre column differs with and without
+  // the hand-bot in most rows up to the top of the image.
+  int rope_rows = 0;
+  for (int y = 0; y < 60; ++y) {
+    bool differs = false;
+    for (int x = 157; x <= 163; ++x)
+      differs = differs || at(with, 320, x, y) != at(without, 320, x, y);
+    rope_rows += differs;
+  }
+  EXPECT_GT(rope_rows, 50) << "the rope runs up out of the image";
+  // The manipulator, from 1 m above: the marXbot with it covers more of the
+  // floor than the same marXbot without it, all of it ahead of the robot
+  // (+x: the top half of this view, whose rows run along -x).
+  CameraView top;
+  top.orientation = FromEulerZYX(0, DegToRad(90), 0);  // x (the optical axis) down
+  top.fov = 40;
+  top.far_clip = 2;
+  top.width = 160;
+  top.height = 120;
+  struct Halves {
+    int ahead = 0, behind = 0;
+  };
+  auto covered = [&](const char* id, const Vec3& above) {
+    top.position = above;
+    const auto robot = draw(top, {}), floor = draw(top, space.Find(id));
+    Halves h;
+    for (int y = 0; y < 120; ++y) {
+      for (int x = 0; x < 160; ++x) {
+        if (at(robot, 160, x, y) == at(floor, 160, x, y)) continue;
+        (y < 60 ? h.ahead : h.behind)++;
+      }
+    }
+    return h;
+  };
+  const Halves with_head = covered("m", Vec3(1, 1, 1)), plain = covered("p", Vec3(1, -1, 1));
+  EXPECT_GT(with_head.ahead, plain.ahead + 10) << "the head in front of the body";
+  EXPECT_NEAR(with_head.behind, plain.behind, 3) << "nothing more behind";
 }
 
 // A bad setting names the file, line, element and attribute.

@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "actuators/handbot_arms/handbot_arms_state.h"
+#include "actuators/manipulator/manipulator_state.h"
+#include "actuators/rope_launcher/rope_state.h"
 #include "core/simulation.h"
+#include "entities/handbot/handbot.h"
 #include "entities/marxbot/marxbot.h"
 
 namespace colony::render {
@@ -196,6 +200,98 @@ void AddMarxbot(Painter& p, Color body, std::span<const Color> leds, const RingM
   }
 }
 
+// A pose at `from` whose axis `axis` (x or z) points at `to`.
+Pose Towards(const Vec3& from, const Vec3& to, const Vec3& axis) {
+  Pose pose;
+  pose.position = from;
+  const Vec3 d = to - from;
+  if (d.squaredNorm() > 1e-12) pose.orientation = Quat::FromTwoVectors(axis, d.normalized());
+  return pose;
+}
+
+// The marXbot's construction manipulator: its head where the physics put it
+// (anchor), on a column in front of the body.
+void AddManipulator(std::vector<Vertex>& out, const Simulation& sim, EntityHandle robot,
+                    const Pose& robot_pose, Detail detail) {
+  Pose head;
+  if (!sim.Anchor(robot, ManipulatorState::kHeadAnchor, head)) return;
+  using namespace marxbot;
+  const Color metal{150, 150, 160, 255}, face{90, 90, 100, 255};
+  Painter column(out, robot_pose);
+  const float pivot = static_cast<float>(kBodyRadius + 0.5 * kHeadDepth);
+  const float top = static_cast<float>(
+      (robot_pose.orientation.conjugate() * (head.position - robot_pose.position)).z());
+  column.Cylinder(pivot, 0, 0.04f, std::max(0.05f, top), 0.006f, detail == Detail::kFine ? 8 : 6,
+                  metal);
+  Painter p(out, head);
+  p.Box(Vec3f(0, 0, static_cast<float>(-0.5 * kHeadHeight)),
+        Vec3f(static_cast<float>(kHeadDepth), static_cast<float>(kHeadWidth),
+              static_cast<float>(kHeadHeight)),
+        metal);
+  // The magnet's face (the head's +x side), darker.
+  p.Box(Vec3f(static_cast<float>(0.5 * kHeadDepth), 0, static_cast<float>(-0.4 * kHeadHeight)),
+        Vec3f(0.004f, static_cast<float>(0.8 * kHeadWidth), static_cast<float>(0.8 * kHeadHeight)),
+        face);
+}
+
+// The hand-bot: hull, docking ring LEDs, rope launcher; the head, arms and
+// grippers where the physics put them (anchors); the rope to its magnet.
+void AddHandbot(std::vector<Vertex>& out, const Simulation& sim, EntityHandle robot,
+                const Pose& pose, Color body, std::span<const Color> leds, const RingMount* ring,
+                Detail detail) {
+  using namespace handbot;
+  const int segments = detail == Detail::kFine ? 24 : 12;
+  const Color metal{150, 150, 160, 255}, dark{60, 60, 70, 255}, rope{200, 170, 90, 255};
+  Painter p(out, pose);
+  const float hull = static_cast<float>(kHullHeight), radius = static_cast<float>(kHullRadius);
+  const float ring_z = ring ? static_cast<float>(ring->elevation) : 0.13f;
+  p.Cylinder(0, 0, 0, ring_z - 0.012f, radius, segments, body);
+  p.Cylinder(0, 0, ring_z - 0.012f, ring_z + 0.012f, radius - 0.012f, segments, Scaled(body, 0.8f));
+  p.Cylinder(0, 0, ring_z + 0.012f, hull, radius, segments, body);
+  if (ring) AddLedRing(p, *ring, leds, detail);
+  p.Cylinder(0, 0, hull, static_cast<float>(kHeight), static_cast<float>(kLauncherRadius), 8, dark);
+  Pose head;
+  if (sim.Anchor(robot, "handbot_head", head)) {
+    Painter h(out, head);
+    h.Box(Vec3f(0, 0, static_cast<float>(-0.5 * kHeadHeight)),
+          Vec3f(static_cast<float>(kHeadDepth), static_cast<float>(kHeadWidth),
+                static_cast<float>(kHeadHeight)),
+          metal);
+    for (int k = 0; k < 2; ++k) {
+      Pose grip;
+      if (!sim.Anchor(robot, k == 0 ? "gripper_left" : "gripper_right", grip)) continue;
+      // The arm: a bar from its shoulder on the head's front to the gripper's base.
+      const Vec3 shoulder =
+          head.position +
+          head.orientation * Vec3(0.5 * kHeadDepth, (k == 0 ? 1 : -1) * kShoulderY, 0);
+      const Vec3 base = grip.position - grip.orientation * Vec3(kGripperLength, 0, 0);
+      const float length = static_cast<float>((base - shoulder).norm());
+      const float t = static_cast<float>(kArmThickness);
+      Painter arm(out, Towards(shoulder, base, Vec3::UnitX()));
+      arm.Box(Vec3f(0.5f * length, 0, -0.5f * t), Vec3f(length, t, t), metal);
+      // The gripper, and its two claws (opened by the aperture).
+      Painter g(out, grip);
+      const float w = static_cast<float>(kGripperWidth), gl = static_cast<float>(kGripperLength);
+      g.Box(Vec3f(-0.5f * gl, 0, -0.5f * w), Vec3f(gl, w, w), dark);
+      const auto* arms = sim.space().Get<HandbotArmsState>(robot.index);
+      const double open = arms ? arms->claws[k].aperture : M_PI / 2;
+      for (int side : {-1, 1}) {
+        const float y =
+            side * static_cast<float>(0.5 * kGripperWidth * std::sin(0.5 * open) + 0.004);
+        g.Box(Vec3f(0.015f, y, -0.006f), Vec3f(0.03f, 0.006f, 0.012f), metal);
+      }
+    }
+  }
+  const RopeState* r = sim.space().Get<RopeState>(robot.index);
+  if (r && r->attached()) {
+    const Vec3 top = pose.position + pose.orientation * Vec3(0, 0, kHeight);
+    Painter line(out, Towards(top, r->anchor, Vec3::UnitZ()));
+    line.Cylinder(0, 0, 0, static_cast<float>((r->anchor - top).norm()), 0.004f, 6, rope);
+    Painter magnet(out, Towards(r->anchor, r->anchor + Vec3(0, 0, 1), Vec3::UnitZ()));
+    magnet.Cylinder(0, 0, -0.02f, 0, 0.015f, 8, dark);
+  }
+}
+
 void AddShape(Painter& p, const Geometry& g, Color c, Detail detail) {
   const float height = static_cast<float>(g.height());
   const int segments = detail == Detail::kFine ? 32 : 12;
@@ -240,6 +336,13 @@ void SceneBuilder::AddEntity(uint32_t slot, SceneBatch& batch, Detail detail) co
     p.Triangles(*mesh);
   } else if (space.TypeLabel(space.type(slot)) == "marxbot") {
     AddMarxbot(p, space.color(slot), leds, ring, detail);
+    if (space.Get<ManipulatorState>(slot)) {
+      AddManipulator(batch.triangles, sim_, space.HandleOf(slot), space.pose(slot), detail);
+    }
+    return;
+  } else if (space.TypeLabel(space.type(slot)) == "handbot") {
+    AddHandbot(batch.triangles, sim_, space.HandleOf(slot), space.pose(slot), space.color(slot),
+               leds, ring, detail);
     return;
   } else if (space.light(slot)) {
     p.Ball(Vec3f::Zero(), kLightBallRadius, leds.empty() ? space.color(slot) : leds[0]);
