@@ -12,10 +12,12 @@
 #include <sstream>
 #include <string>
 
+#include "actuators/handbot_arms/handbot_arms_state.h"
 #include "actuators/rope_launcher/rope_state.h"
 #include "core/image_renderer.h"
 #include "core/output.h"
 #include "core/registry.h"
+#include "sensors/camera/camera.h"
 #include "tests/test_util.h"
 
 namespace colony {
@@ -389,7 +391,10 @@ TEST(ImageRenderer, DrawsWhatTheCameraSeesExceptTheHiddenEntity) {
 // The hand-bot hanging on its rope, seen from the side: the hull where the
 // robot is, the rope above it up to the ceiling; and a marXbot's
 // construction manipulator, seen from above, in front of its body.
+bool HaveDynamics3d() { return Registry<PhysicsEngine>::Get().Find("dynamics3d") != nullptr; }
+
 TEST(ImageRenderer, DrawsTheHandBotOnItsRopeAndTheMarxbotsManipulator) {
+  if (!HaveDynamics3d()) GTEST_SKIP() << "the hand-bot and the manipulator need dynamics3d";
   unsetenv("DISPLAY");
   ASSERT_TRUE(HaveImageRenderer());
   auto sim = LoadXml(Experiment(
@@ -468,6 +473,52 @@ TEST(ImageRenderer, DrawsTheHandBotOnItsRopeAndTheMarxbotsManipulator) {
   const Halves with_head = covered("m", Vec3(1, 1, 1)), plain = covered("p", Vec3(1, -1, 1));
   EXPECT_GT(with_head.ahead, plain.ahead + 10) << "the head in front of the body";
   EXPECT_NEAR(with_head.behind, plain.behind, 3) << "nothing more behind";
+}
+
+// A camera on a hand-bot's gripper looks out of its claws, wherever the arm
+// puts it: straight ahead at a red box with the arm extended, sideways
+// with it folded.
+TEST(ImageRenderer, ACameraOnAGripperLooksWhereTheGripperPoints) {
+  if (!HaveDynamics3d()) GTEST_SKIP() << "the hand-bot needs dynamics3d";
+  unsetenv("DISPLAY");
+  auto sim = LoadXml(
+      "<colony><framework><experiment length=\"10\" "
+      "ticks_per_second=\"10\"/></framework><controllers>"
+      "<led_holder id=\"c\"><sensors><camera anchor=\"gripper_left\" width=\"32\" height=\"24\" "
+      "fov=\"40\"/>"
+      "</sensors></led_holder></controllers><arena size=\"4,4,2\" center=\"0,0,1\"><handbot "
+      "id=\"h\">"
+      "<body position=\"0,0,0\"/><controller config=\"c\"/></handbot><box id=\"target\" "
+      "size=\"0.2,0.4,0.4\" "
+      "color=\"red\"><body position=\"1,0.06,0\"/></box></arena><physics_engines><dynamics3d "
+      "id=\"d3d\" "
+      "stepper=\"worldstep\"/></physics_engines></colony>");
+  const auto& camera = dynamic_cast<LedHolder&>(*sim->ControllerOf(sim->space().Find("h")))
+                           .GetSensor<CameraSensor>("camera");
+  auto centre = [&] {
+    const uint8_t* p = camera.rgb().data() + (12 * 32 + 16) * 3;
+    return Color{p[0], p[1], p[2], 255};
+  };
+  sim->Step();
+  EXPECT_FALSE(centre().r > 150 && centre().g < 80)
+      << "folded, the gripper looks sideways: " << Hex(centre());
+  auto& arms = *sim->space().Get<HandbotArmsState>(sim->space().Find("h").index);
+  arms.arm[0].target = M_PI / 2;
+  for (int t = 0; t < 20; ++t) sim->Step();
+  ASSERT_NEAR(arms.arm[0].position, M_PI / 2, 0.02);
+  EXPECT_GT(centre().r, 150) << "straight ahead, the red box: " << Hex(centre());
+  EXPECT_LT(centre().g, 80);
+  // An anchor the robot does not have is refused at load.
+  EXPECT_TRUE(testing::Mentions(
+      LoadError(
+          "<colony><framework><experiment length=\"10\" "
+          "ticks_per_second=\"10\"/></framework><controllers>"
+          "<led_holder id=\"c\"><sensors><camera "
+          "anchor=\"elbow\"/></sensors></led_holder></controllers>"
+          "<arena size=\"4,4,2\" center=\"0,0,1\"><handbot id=\"h\"><body position=\"0,0,0\"/>"
+          "<controller config=\"c\"/></handbot></arena><physics_engines><dynamics3d id=\"d3d\"/>"
+          "</physics_engines></colony>"),
+      {"<camera>", "'h'", "no 'elbow' anchor"}));
 }
 
 // A bad setting names the file, line, element and attribute.

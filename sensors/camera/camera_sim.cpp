@@ -8,6 +8,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/device.h"
@@ -44,6 +45,7 @@ class CameraSystem : public SensorSystem {
       const auto p = node.GetTriple("position", {0, 0, 0});
       position_ = Vec3(p[0], p[1], p[2]);
     }
+    anchor_ = node.GetString("anchor", "");
     const auto o = node.GetTriple("orientation", {0, 0, 0});
     orientation_ = FromEulerZYX(DegToRad(o[0]), DegToRad(o[1]), DegToRad(o[2]));
     noise_ = NoiseModel::Read(node);
@@ -52,9 +54,15 @@ class CameraSystem : public SensorSystem {
   size_t BytesPerRobot() const override { return static_cast<size_t>(width_) * height_ * 3; }
 
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
+    Pose part;
+    if (!anchor_.empty() && !sim().Anchor(robot, anchor_, part)) {
+      throw AttachError("its physics model gives no '" + anchor_ + "' anchor (attribute 'anchor')");
+    }
     CameraInstance& c = instances_.Add(robot, rng);
     const double front = sim().space().geometry(robot.index).BoundingRadius();
-    c.mount.position = position_.value_or(Vec3(front, 0, kDefaultMountHeight));
+    // On a part, at its anchor unless told where; on the body, at its front.
+    const Vec3 fallback = anchor_.empty() ? Vec3(front, 0, kDefaultMountHeight) : Vec3::Zero();
+    c.mount.position = position_.value_or(fallback);
     c.mount.orientation = orientation_;
     c.Resize(width_, height_);
     return &c;
@@ -78,10 +86,14 @@ class CameraSystem : public SensorSystem {
 
  private:
   CameraView ViewOf(const CameraInstance& c) const {
-    const Pose& robot = sim().space().pose(c.robot.index);
+    // The frame it is mounted on: the robot's body, or a moving part where
+    // the physics put it (checked at Attach; a robot migrates only into
+    // engines whose model simulates what its devices need).
+    Pose frame = sim().space().pose(c.robot.index);
+    if (!anchor_.empty()) sim().Anchor(c.robot, anchor_, frame);
     CameraView view;
-    view.position = robot.position + robot.orientation * c.mount.position;
-    view.orientation = robot.orientation * c.mount.orientation;
+    view.position = frame.position + frame.orientation * c.mount.position;
+    view.orientation = frame.orientation * c.mount.orientation;
     view.fov = fov_;
     view.near_clip = kNearClip;
     view.far_clip = range_;
@@ -103,6 +115,7 @@ class CameraSystem : public SensorSystem {
   double fov_ = 45, range_ = 4;
   std::optional<Vec3> position_;
   Quat orientation_ = Quat::Identity();
+  std::string anchor_;  // "": the robot's body
   NoiseModel noise_;
   InstanceStore<CameraInstance> instances_;
   // Drawing, one camera at a time.
@@ -120,6 +133,10 @@ std::vector<AttributeDoc> CameraAttributes() {
        "where the camera sits on the robot (x forwards, z up, from the centre of its base)"},
       {"orientation", "\"yaw,pitch,roll\" (degrees)", "0,0,0",
        "where it looks, from the robot's front; pitch > 0 tilts it down"},
+      {"anchor", "the name of an anchor of the robot's physics model", "none: the body",
+       "mounts the camera on a moving part (e.g. a hand-bot's gripper_left), position and "
+       "orientation "
+       "then in that part's frame"},
   };
   for (auto& n : NoiseModel::Attributes(false)) a.push_back(n);
   return a;
