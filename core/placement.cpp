@@ -150,12 +150,21 @@ Vec3 Draw(const DistributeDraw& draw, RandomStream& rng, size_t index) {
   const auto& b = draw.b;
   auto unit = [&](double v) { return draw.degrees ? DegToRad(v) : v; };
   switch (draw.method) {
-    case DistributeDraw::Method::kUniform:
-      return Vec3(rng.Uniform(unit(a[0]), unit(b[0])), rng.Uniform(unit(a[1]), unit(b[1])),
-                  rng.Uniform(unit(a[2]), unit(b[2])));
-    case DistributeDraw::Method::kGaussian:
-      return Vec3(rng.Gaussian(unit(a[0]), unit(b[0])), rng.Gaussian(unit(a[1]), unit(b[1])),
-                  rng.Gaussian(unit(a[2]), unit(b[2])));
+    case DistributeDraw::Method::kUniform: {
+      // One draw per statement: the order of a call's arguments is
+      // unspecified (GCC and clang differ), and z, y, x is the order every
+      // recorded result was made with.
+      const double z = rng.Uniform(unit(a[2]), unit(b[2]));
+      const double y = rng.Uniform(unit(a[1]), unit(b[1]));
+      const double x = rng.Uniform(unit(a[0]), unit(b[0]));
+      return Vec3(x, y, z);
+    }
+    case DistributeDraw::Method::kGaussian: {
+      const double z = rng.Gaussian(unit(a[2]), unit(b[2]));
+      const double y = rng.Gaussian(unit(a[1]), unit(b[1]));
+      const double x = rng.Gaussian(unit(a[0]), unit(b[0]));
+      return Vec3(x, y, z);
+    }
     case DistributeDraw::Method::kGrid: {
       // Places filled x fastest, then y, then z, centred on a.
       const auto& n = draw.layout;
