@@ -3,17 +3,22 @@
 #   ./build.sh demo [colony run options]   install what is missing, build, run the demo experiment
 #   ./build.sh test                        install what is missing, build, run every test
 #   ./build.sh build                       install what is missing, build
+#   ./build.sh sanitize                    install clang, then: the test suite under AddressSanitizer +
+#                                          UndefinedBehaviorSanitizer, the loader fuzzer, and the
+#                                          multi-threaded tests under ThreadSanitizer (CI's last stage;
+#                                          tests/sanitizers/README.md)
 # Installs missing Debian packages when run as root (or through sudo).
 set -euo pipefail
 cd "$(dirname "$0")"
 
 PACKAGES=(g++ make cmake pkg-config python3 libeigen3-dev libtinyxml2-dev libpng-dev libgtest-dev
           libbox2d-dev libode-dev nlohmann-json3-dev libosmesa6-dev libassimp-dev libopenmpi-dev openmpi-bin)
+SANITIZE_PACKAGES=(clang libclang-rt-dev)
 BUILD_DIR=${COLONY_BUILD_DIR:-build}
 
 install_missing() {
   local missing=()
-  for p in "${PACKAGES[@]}"; do
+  for p in "${PACKAGES[@]}" "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   [ ${#missing[@]} -eq 0 ] && return 0
@@ -56,8 +61,12 @@ case "$command" in
     install_missing
     build
     ;;
+  sanitize)
+    install_missing "${SANITIZE_PACKAGES[@]}"
+    exec tests/sanitizers/run.sh
+    ;;
   *)
-    echo "usage: ./build.sh demo|test|build" >&2
+    echo "usage: ./build.sh demo|test|build|sanitize" >&2
     exit 2
     ;;
 esac
