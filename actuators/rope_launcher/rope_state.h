@@ -29,6 +29,7 @@ struct RopeState {
   double max_length = 2.7;  // m of rope: the magnet reaches at most this far above the launcher
   double max_climb_speed = 0.1;  // m/s, the motor's fastest coiling
   double motor_force = 50;       // N, the most the motor pulls
+  double stiffness = 5000;       // N/m: how much the rope pulls per metre it is stretched
   // State, written by the model.
   Status status = Status::kStowed;
   double length = 0;           // m from the magnet to the launcher's top (0 stowed)

@@ -6,13 +6,13 @@
 // the joint's speed (handbot_arms_state.h); claws that, closing on
 // something in front of the gripper's tip, hold it with a fixed joint that
 // lets go when pulled harder than the claws hold (4 kg); and the rope: a unilateral distance
-// constraint between the magnet, held to the ceiling, and the launcher's top. The rope holds the
-// robot no farther from the magnet than the rope let out, never pushes it, and lets it swing and
-// turn freely about the magnet. Each sub-step the constraint is an ODE contact joint at the
-// launcher's top, its normal towards the magnet, its depth how far the robot is beyond the rope let
-// out; ODE's solver keeps the force >= 0. The motor coils the rope in (the robot climbs) while the
-// rope pulls less than its force, and stalls otherwise. The traction is the constraint's force,
-// averaged over the tick's sub-steps.
+// constraint between the magnet, held to the ceiling, and the launcher's top. Beyond the rope
+// let out the rope pulls like a stiff, critically damped spring (rope_stiffness); it never pushes,
+// and lets the robot swing and turn freely about the magnet. Each sub-step the constraint is an ODE
+// contact joint at the launcher's top, its normal towards the magnet, its depth how far the robot
+// is beyond the rope let out, its ERP and CFM the spring's; ODE's solver keeps the force >= 0. The
+// motor coils the rope in (the robot climbs) while the rope pulls less than its force, and stalls
+// otherwise. The traction is the constraint's force, averaged over the tick's sub-steps.
 //
 // Seed 003 (5.2.2) modelled the rope with a ball joint at the anchor and a
 // slider joint along the rope. Built that way on ODE's iterative solver (a
@@ -187,8 +187,12 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
       dContact c{};
       c.surface.mode = dContactSoftERP | dContactSoftCFM;
       c.surface.mu = 0;
-      c.surface.soft_erp = engine.params().erp;
-      c.surface.soft_cfm = engine.params().cfm;
+      // The rope stretches: a spring of the rope's stiffness, damped
+      // critically for the robot's mass, as ODE's soft constraint
+      // parameters for this sub-step.
+      const double k = rope.stiffness, d = 2 * std::sqrt(rope.stiffness * space.mass(s));
+      c.surface.soft_erp = h * k / (h * k + d);
+      c.surface.soft_cfm = 1 / (h * k + d);
       const Vec3 n = to_magnet / length;
       c.geom.pos[0] = top.x();
       c.geom.pos[1] = top.y();
@@ -239,6 +243,20 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
         Write(r.arm_joint[k], arms.arm[k], substeps);
         Write(r.wrist_joint[k], arms.wrist[k], substeps);
         arms.claws[k].held = r.held[k];
+      }
+      if (getenv("HB_POSE")) {
+        Pose pl, pr, ph;
+        Anchor(space, s, "gripper_left", pl);
+        Anchor(space, s, "gripper_right", pr);
+        Anchor(space, s, "handbot_head", ph);
+        Vec3 hull = BodyPos(engine.BodyOf(s));
+        Vec3 hx = ph.orientation * Vec3::UnitX();
+        fprintf(stderr,
+                "POSE L=(%.3f %.3f %.3f) R=(%.3f %.3f %.3f) head=(%.3f %.3f %.3f) headx=(%.2f %.2f "
+                "%.2f) hull=(%.3f %.3f %.3f)\n",
+                pl.position.x(), pl.position.y(), pl.position.z(), pr.position.x(), pr.position.y(),
+                pr.position.z(), ph.position.x(), ph.position.y(), ph.position.z(), hx.x(), hx.y(),
+                hx.z(), hull.x(), hull.y(), hull.z());
       }
       RopeState& rope = *space.Get<RopeState>(s);
       if (!r.attached) {

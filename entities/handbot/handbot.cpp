@@ -39,6 +39,7 @@ class HandbotType : public EntityType {
     rope.max_length = node.GetDouble("rope_length", kRopeMaxLength, Range::Positive());
     rope.max_climb_speed = node.GetDouble("climb_speed", kRopeMaxClimbSpeed, Range::Positive());
     rope.motor_force = node.GetDouble("rope_force", kRopeMotorForce, Range::Positive());
+    rope.stiffness = node.GetDouble("rope_stiffness", kRopeStiffness, Range::Positive());
     HandbotArmsState& arms = init.components.Add<HandbotArmsState>();
     arms.head.motor = {kHeadStallTorque, kHeadNoLoadSpeed};
     arms.head.speed = kHeadNominalSpeed;
@@ -79,6 +80,8 @@ COLONY_REGISTER_ENTITY(
          "fastest the rope motor coils the rope in or lets it out"},
         {"rope_force", "a number > 0 (N)", "50",
          "most the rope motor pulls (climbing stalls beyond it)"},
+        {"rope_stiffness", "a number > 0 (N/m)", "5000",
+         "the rope's pull per metre it is stretched (a 2 kg robot stretches it 4 mm)"},
         {"holding_limit", "a number > 0 (N)", "39.24",
          "pull beyond which a grasped thing slips out of a gripper"},
         {"fan_torque", "a number > 0 (N m)", "0.05", "most yaw torque the two fans give together"},

@@ -23,6 +23,8 @@ inline constexpr double kHeight = kHullHeight + kLauncherHeight;
 inline constexpr double kRopeMaxLength = 2.7;      // m (seed 000: the magnet reaches 270 cm)
 inline constexpr double kRopeMaxClimbSpeed = 0.1;  // m/s (our choice)
 inline constexpr double kRopeMotorForce = 50;  // N (our choice: lifts the robot and a 2 kg load)
+// N/m (our choice: a 2 mm nylon cord 2 m long; a 2 kg robot stretches it 4 mm)
+inline constexpr double kRopeStiffness = 5000;
 
 // Head: a box in front of the hull turning both arms about the robot's
 // forward (x) axis. Each arm is a bar hinged on the head's front face,

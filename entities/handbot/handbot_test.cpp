@@ -152,10 +152,13 @@ TEST(Handbot, AGripperHoldsABookAsTheRobotClimbsAndASixKiloWeightSlipsOut) {
     RunFor(*sim, 2);
     p.rope->SetClimbSpeed(0);
     RunFor(*sim, 1);
-    // The robot rose 0.2 m; holding the book in front, it swings back under
-    // the rope and drags the book off the shelf.
-    EXPECT_NEAR(PositionOf(*sim, "h").z(), 0.2, 0.03);
     if (mass < 1) {
+      // The robot rose 0.2 m; holding the book in front, it swings back
+      // under the rope and drags the book off the shelf. (Holding 6 kg, the
+      // rope stretches under the motor's 200 N and the robot tips about its
+      // grip until the weight slips out; the stretched rope then throws it
+      // up: its height says nothing about the claws.)
+      EXPECT_NEAR(PositionOf(*sim, "h").z(), 0.2, 0.03);
       EXPECT_TRUE(p.grippers_sensor->holding(kLeft));
       EXPECT_GT(PositionOf(*sim, "book").z() - start, 0.05) << "lifted off the shelf";
     } else {
