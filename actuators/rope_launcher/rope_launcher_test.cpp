@@ -216,6 +216,28 @@ TEST(RopeLauncher, BadSetupsAreRefusedAtLoad) {
   EXPECT_TRUE(Mentions(LoadError(Scene("", "rope_length=\"-1\"")),
                        {"<handbot id=\"h\">", "rope_length", "'-1'"}));
   EXPECT_TRUE(Mentions(LoadError(Scene("", "climb_speed=\"fast\"")), {"climb_speed", "'fast'"}));
+  EXPECT_TRUE(Mentions(LoadError(Scene("", "rope_stiffness=\"0\"")),
+                       {"rope_stiffness", "'0'", "out of range"}));
+}
+
+TEST(RopeLauncher, TheRopeStretchesUnderTheRobotsWeight) {
+  // Hanging still, a 2 kg robot stretches a 5000 N/m rope 3.9 mm, a 1000 N/m
+  // one 19.6 mm: the launcher's top is that much farther from the magnet
+  // than the rope let out.
+  for (const double k : {5000.0, 1000.0}) {
+    auto sim =
+        LoadXml(Scene("<ceiling height=\"2.5\"/>", "rope_stiffness=\"" + std::to_string(k) + "\""));
+    RopeProbe& p = Probe(*sim);
+    p.launch = true;
+    RunFor(*sim, 0.5);
+    p.climb = 0.1;
+    RunFor(*sim, 2);
+    p.climb = 0;
+    RunFor(*sim, 3);
+    const RopeState& rope = *sim->space().Get<RopeState>(sim->space().Find("h").index);
+    EXPECT_NEAR(rope.length - rope.paid_out, 2 * kGravity / k, 0.1 * 2 * kGravity / k) << k;
+    EXPECT_NEAR(p.sensor->traction(), 2 * kGravity, 0.2) << k;
+  }
 }
 
 TEST(RopeLauncher, SameResultsWhateverTheThreadCount) {

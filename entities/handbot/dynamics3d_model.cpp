@@ -152,6 +152,7 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
   }
 
   void BeforeSubstep(Engine& engine, double h) override {
+    substep_ = h;
     Space& space = engine.entities();
     for (uint32_t s : slots_) {
       Robot& r = *robots_[s];
@@ -200,7 +201,9 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
       c.geom.normal[0] = n.x();
       c.geom.normal[1] = n.y();
       c.geom.normal[2] = n.z();
-      c.geom.depth = depth;
+      // ODE lets contacts sink by the world's surface layer before it
+      // pushes back: added, the rope pulls from exactly the length let out.
+      c.geom.depth = depth + dWorldGetContactSurfaceLayer(engine.world());
       r.normal = n;
       r.rope_joint = dJointCreateContact(engine.world(), ropes_, &c);
       dJointAttach(r.rope_joint, engine.BodyOf(s), nullptr);
@@ -243,20 +246,6 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
         Write(r.arm_joint[k], arms.arm[k], substeps);
         Write(r.wrist_joint[k], arms.wrist[k], substeps);
         arms.claws[k].held = r.held[k];
-      }
-      if (getenv("HB_POSE")) {
-        Pose pl, pr, ph;
-        Anchor(space, s, "gripper_left", pl);
-        Anchor(space, s, "gripper_right", pr);
-        Anchor(space, s, "handbot_head", ph);
-        Vec3 hull = BodyPos(engine.BodyOf(s));
-        Vec3 hx = ph.orientation * Vec3::UnitX();
-        fprintf(stderr,
-                "POSE L=(%.3f %.3f %.3f) R=(%.3f %.3f %.3f) head=(%.3f %.3f %.3f) headx=(%.2f %.2f "
-                "%.2f) hull=(%.3f %.3f %.3f)\n",
-                pl.position.x(), pl.position.y(), pl.position.z(), pr.position.x(), pr.position.y(),
-                pr.position.z(), ph.position.x(), ph.position.y(), ph.position.z(), hx.x(), hx.y(),
-                hx.z(), hull.x(), hull.y(), hull.z());
       }
       RopeState& rope = *space.Get<RopeState>(s);
       if (!r.attached) {
@@ -484,6 +473,16 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
         r.grasp[k] = dJointCreateFixed(engine.world(), nullptr);
         dJointAttach(r.grasp[k], r.gripper[k], touch.body);
         dJointSetFixed(r.grasp[k]);
+        // The claws' pads give: the grasp is a stiff spring (kGraspStiffness
+        // per metre and per radian), critically damped for the robot's mass.
+        // A rigid joint fought the floor's contacts when the robot gripped
+        // something while standing, and its force swung past the holding
+        // limit within a few sub-steps.
+        const double h = substep_ > 0 ? substep_ : dt;
+        const double gk = handbot::kGraspStiffness,
+                     gd = 2 * std::sqrt(gk * engine.entities().mass(s));
+        dJointSetFixedParam(r.grasp[k], dParamERP, h * gk / (h * gk + gd));
+        dJointSetFixedParam(r.grasp[k], dParamCFM, 1 / (h * gk + gd));
         dJointSetFeedback(r.grasp[k], &r.grasp_feedback[k]);
         r.held[k] = touch.owner == kNone ? HandbotArmsState::kFixedThing : touch.owner;
         if (touch.body && touch.owner != kNone) engine.SetHolder(touch.owner, s);
@@ -540,6 +539,7 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     r.paid_out = hit.distance;  // taut: the fast motor took up the slack
   }
 
+  double substep_ = 0;
   bool warned_ = false;
   dJointGroupID ropes_ = nullptr;               // this sub-step's rope constraints
   std::vector<std::unique_ptr<Robot>> robots_;  // per space slot

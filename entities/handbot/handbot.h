@@ -51,6 +51,9 @@ inline constexpr double kClawSpeed = 1.0;  // rad/s
 inline constexpr double kGraspForce = 25;  // N (table 5.3)
 inline constexpr double kHoldingLimit =
     4 * 9.81;  // N: "the claws can apply a force up to 4 kg" (seed 000)
+// N/m and N m/rad: how stiffly a grasp holds (our choice: rubber pads; a 2 kg
+// robot hanging from one gripper sags 4 mm).
+inline constexpr double kGraspStiffness = 5000;
 inline constexpr double kClawReach = 0.03;  // m beyond the gripper's tip the claws close on
 
 // Fans: the most yaw torque the two together give (our choice: turns the
