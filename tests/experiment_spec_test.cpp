@@ -31,6 +31,7 @@ ExperimentSpec ReadText(const std::string& text) {
 }
 
 TEST(ExperimentSpec, HoldsTheFileAsValues) {
+  if (!HaveEngine("dynamics2d")) GTEST_SKIP() << "the file uses dynamics2d";
   const ExperimentSpec spec = ReadText(kFile);
   EXPECT_EQ(spec.file, "<string>");
   EXPECT_EQ(spec.threads, 2);
@@ -75,6 +76,7 @@ TEST(ExperimentSpec, HoldsTheFileAsValues) {
 }
 
 TEST(ExperimentSpec, CreatesWhatItHolds) {
+  if (!HaveEngine("dynamics2d")) GTEST_SKIP() << "the file uses dynamics2d";
   const ExperimentSpec spec = ReadText(kFile);
   auto sim = Simulation::Create(spec);
   EXPECT_EQ(sim->threads(), 2);
@@ -88,6 +90,7 @@ TEST(ExperimentSpec, CreatesWhatItHolds) {
 }
 
 TEST(ExperimentSpec, OneSpecCreatesTheSameSimulationAsLoading) {
+  if (!HaveEngine("dynamics2d")) GTEST_SKIP() << "the file uses dynamics2d";
   const ExperimentSpec spec = ReadText(kFile);
   auto a = Simulation::Create(spec);
   auto b = Simulation::Create(spec);  // a spec can be created from again
@@ -103,6 +106,7 @@ TEST(ExperimentSpec, OneSpecCreatesTheSameSimulationAsLoading) {
 }
 
 TEST(ExperimentSpec, ProgramsMayChangeItBeforeCreating) {
+  if (!HaveEngine("dynamics2d")) GTEST_SKIP() << "the file uses dynamics2d";
   ExperimentSpec spec = ReadText(kFile);
   auto& block = std::get<DistributeSpec>(spec.arena.contents[1]);
   block.quantity = 12;
@@ -120,6 +124,7 @@ TEST(ExperimentSpec, ProgramsMayChangeItBeforeCreating) {
 }
 
 TEST(ExperimentSpec, ProblemsFoundBuildingNameTheSpecLines) {
+  if (!HaveEngine("dynamics2d")) GTEST_SKIP() << "the file uses dynamics2d";
   ExperimentSpec spec = ReadText(kFile);
   EntityDesc clash = std::get<EntityDesc>(spec.arena.contents[0]);
   clash.line = 42;  // where a program says it came from

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/image_renderer.h"
+#include "core/registry.h"
 #include "core/simulation.h"
 
 namespace colony::testing {
@@ -46,6 +47,12 @@ inline std::unique_ptr<Simulation> LoadXml(const std::string& xml,
   options.overrides = std::move(overrides);
   options.threads = threads;
   return Simulation::Load(options);
+}
+
+// Whether this build has the physics engine `name` (-DCOLONY_WITH_DYNAMICS2D=OFF
+// and -DCOLONY_WITH_DYNAMICS3D=OFF leave engines out).
+inline bool HaveEngine(const std::string& name) {
+  return Registry<PhysicsEngine>::Get().Find(name) != nullptr;
 }
 
 // The message of the ConfigError loading `xml` raises, or "" if it loads.

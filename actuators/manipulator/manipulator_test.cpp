@@ -231,9 +231,12 @@ TEST(ManipulatorActuator, RobotWithoutManipulatorIsRejected) {
 TEST(ManipulatorActuator, EnginesThatDoNotSimulateItRejectItAtLoadTime) {
   const std::string m =
       LoadError(Experiment(Robot("r"), Controllers(), "4,4,1", "", "<kinematics2d id=\"k2d\"/>"));
-  ExpectMentions(m, {"<manipulator>: robot 'r' (a marxbot",
-                     "its physics engine (kinematics2d 'k2d') does not simulate the manipulator of "
-                     "a marxbot; use dynamics3d"});
+  ExpectMentions(
+      m, {"<manipulator>: robot 'r' (a marxbot",
+          "its physics engine (kinematics2d 'k2d') does not simulate the manipulator of "
+          "a marxbot; use " +
+              std::string(testing::HaveEngine("dynamics3d") ? "dynamics3d"
+                                                            : "manipulator_actuator_double")});
 }
 
 TEST(ManipulatorActuator, RegisteredAttributesMatchTheReadme) {

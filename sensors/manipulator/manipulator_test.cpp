@@ -357,9 +357,12 @@ TEST(ManipulatorSensor, RobotsAndEnginesThatCannotCarryItAreRejected) {
                            "<manipulator_probe id=\"mp\"><sensors><manipulator/></sensors>"
                            "</manipulator_probe>",
                            "4,4,1", "", "<kinematics2d id=\"k2d\"/>"));
-  ExpectMentions(k2d, {"<manipulator>: robot 'r' (a marxbot", "cannot carry this sensor",
-                       "its physics engine (kinematics2d 'k2d') does not simulate the manipulator "
-                       "of a marxbot; use dynamics3d"});
+  ExpectMentions(
+      k2d, {"<manipulator>: robot 'r' (a marxbot", "cannot carry this sensor",
+            "its physics engine (kinematics2d 'k2d') does not simulate the manipulator "
+            "of a marxbot; use " +
+                std::string(testing::HaveEngine("dynamics3d") ? "dynamics3d"
+                                                              : "manipulator_sensor_double")});
 }
 
 TEST(ManipulatorSensor, BadAttributesAreReportedWithElementAndLine) {
