@@ -1,0 +1,186 @@
+// The Push-Pull foot-bot (controllers/pushpull/pushpull_footbot.cpp; seed
+// 003, 6.2.1): it finds a hand-bot's slot with its camera, connects to the
+// hand-bot's ring there and pushes or pulls it; it holds still when a
+// connecting foot-bot asks it to, until the time-out.
+#include <cmath>
+#include <string>
+
+#include "actuators/gripper/gripper_state.h"
+#include "actuators/leds/leds.h"
+#include "actuators/range_and_bearing/range_and_bearing.h"
+#include "controllers/pushpull/pushpull_protocol.h"
+#include "core/registry.h"
+#include "sensors/positioning/positioning.h"
+#include "tests/test_util.h"
+
+namespace colony::testing {
+namespace {
+
+using namespace colony::pushpull;
+
+// A hand-bot showing one slot: blue at ring LED `slot`, and pull green (or
+// push violet) at the next LED counter-clockwise; dark once it has moved
+// `until` metres (then it no longer asks to be moved).
+class SlotShower : public Controller {
+ public:
+  void Init(const Params& params) override {
+    slot_ = static_cast<int>(params.GetInt("slot", 6, 0, 11));
+    push_ = params.GetBool("push", false);
+    until_ = params.GetDouble("until", 0.3, 0, 10);
+    leds_ = &GetActuator<Leds>("leds");
+    position_ = &GetSensor<PositioningSensor>("positioning");
+  }
+  void ControlStep() override {
+    if (!started_) {
+      x0_ = position_->x();
+      y0_ = position_->y();
+      started_ = true;
+    }
+    leds_->SetAllColors(kOff);
+    if (std::hypot(position_->x() - x0_, position_->y() - y0_) < until_) {
+      leds_->SetSingleColor(static_cast<size_t>(slot_), kSlotBlue);
+      leds_->SetSingleColor(static_cast<size_t>((slot_ + 1) % 12),
+                            push_ ? kPushViolet : kPullGreen);
+    }
+  }
+
+ private:
+  int slot_ = 6;
+  bool push_ = false, started_ = false;
+  double until_ = 0.3, x0_ = 0, y0_ = 0;
+  Leds* leds_ = nullptr;
+  const PositioningSensor* position_ = nullptr;
+};
+COLONY_REGISTER_CONTROLLER(SlotShower, "pushpull_test_slot",
+                           "test controller of pushpull_test: a hand-bot showing one slot");
+
+// A foot-bot broadcasting a pause, as a connecting foot-bot does, for
+// `for` seconds.
+class Pauser : public Controller {
+ public:
+  void Init(const Params& params) override {
+    for_ = params.GetDouble("for", 1e9, 0, 1e9);
+    rab_ = &GetActuator<RangeAndBearingActuator>("range_and_bearing");
+  }
+  void ControlStep() override {
+    t_ += 0.1;
+    rab_->SetByte(0, t_ <= for_ ? kPause : kNothing);
+    rab_->SetByte(1, kFootBot);
+    rab_->SetByte(2, 0xff);
+    rab_->SetByte(3, 0xff);
+  }
+
+ private:
+  double for_ = 1e9, t_ = 0;
+  RangeAndBearingActuator* rab_ = nullptr;
+};
+COLONY_REGISTER_CONTROLLER(Pauser, "pushpull_test_pauser",
+                           "test controller of pushpull_test: a foot-bot asking others to pause");
+
+const char kFootbotConfig[] = R"(
+    <pushpull_footbot id="fb" library="pushpull_footbot">
+      <actuators>
+        <differential_steering/>
+        <gripper/>
+        <leds/>
+        <range_and_bearing data_size="4"/>
+      </actuators>
+      <sensors>
+        <omnidirectional_camera range="2"/>
+        <proximity/>
+        <range_and_bearing/>
+        <gripper/>
+      </sensors>
+      <params %PARAMS%/>
+    </pushpull_footbot>)";
+
+std::string Scene(const std::string& robots, const std::string& footbot_params = "",
+                  const std::string& slot_params = "") {
+  std::string fb = kFootbotConfig;
+  fb.replace(fb.find("%PARAMS%"), 8, footbot_params);
+  return R"(<colony>
+  <framework><experiment length="60" ticks_per_second="10" random_seed="1"/></framework>
+  <controllers>)" +
+         fb + R"(
+    <pushpull_test_slot id="slot"><actuators><leds/></actuators><sensors><positioning/></sensors>
+      <params )" +
+         slot_params + R"(/></pushpull_test_slot>
+    <pushpull_test_pauser id="pauser"><actuators><range_and_bearing data_size="4"/></actuators>
+      <params for="3"/></pushpull_test_pauser>
+  </controllers>
+  <arena size="4,4,2" center="0,0,1">)" +
+         robots + R"(
+  </arena>
+  <physics_engines><dynamics3d id="d3d" stepper="worldstep"/></physics_engines>
+  <media><range_and_bearing id="rab"/><led id="leds"/></media>
+</colony>)";
+}
+
+std::string Handbot(const std::string& position, const std::string& orientation = "0,0,0") {
+  return "<handbot id=\"h\"><body position=\"" + position + "\" orientation=\"" + orientation +
+         "\"/><controller config=\"slot\"/></handbot>";
+}
+std::string Footbot(const std::string& id, const std::string& position,
+                    const std::string& orientation, const std::string& config = "fb") {
+  return "<marxbot id=\"" + id + "\"><body position=\"" + position + "\" orientation=\"" +
+         orientation + "\"/><controller config=\"" + config + "\"/></marxbot>";
+}
+
+void RunFor(Simulation& sim, double seconds) {
+  for (int t = 0; t < static_cast<int>(std::lround(seconds * 10)); ++t) sim.Step();
+}
+
+Vec3 At(Simulation& sim, const std::string& id) {
+  return sim.space().pose(sim.space().Find(id).index).position;
+}
+
+TEST(pushpull, AFootBotFindsAPullSlotConnectsAndPullsTheHandBot) {
+  // The hand-bot's slot at LEDs 6-7 faces -x; the foot-bot starts 1 m away,
+  // off to the side, facing away.
+  auto sim = LoadXml(
+      Scene(Handbot("0,0,0") + Footbot("f", "-1,0.5,0", "90,0,0"), "", "slot=\"6\" until=\"0.3\""));
+  const uint32_t f = sim->space().Find("f").index;
+  const Vec3 start = At(*sim, "h");
+  bool held = false;
+  while (!sim->Done()) {
+    sim->Step();
+    held = held || sim->space().Get<GripperState>(f)->holding();
+  }
+  EXPECT_TRUE(held) << "connected to the hand-bot";
+  const Vec3 end = At(*sim, "h");
+  EXPECT_GT((end - start).norm(), 0.3) << "moved the hand-bot";
+  EXPECT_LT(end.x() - start.x(), -0.25) << "pulled it out towards the slot's side";
+  EXPECT_FALSE(sim->space().Get<GripperState>(f)->holding()) << "and let go";
+}
+
+TEST(pushpull, AFootBotPushesAtAPushSlot) {
+  auto sim = LoadXml(Scene(Handbot("0,0,0") + Footbot("f", "-1,-0.5,0", "0,0,0"), "",
+                           "slot=\"6\" push=\"true\" until=\"0.3\""));
+  const Vec3 start = At(*sim, "h");
+  while (!sim->Done()) sim->Step();
+  EXPECT_GT(At(*sim, "h").x() - start.x(), 0.25) << "pushed away from the slot's side";
+}
+
+TEST(pushpull, AFootBotThatHearsAPauseHoldsStillUntilTheTimeOut) {
+  // The pauser asks for 3 s; with pause_timeout 1.5 s the foot-bot holds
+  // 1.5 s, then moves on.
+  auto sim =
+      LoadXml(Scene(Footbot("f", "0,0,0", "0,0,0") + Footbot("p", "-0.7,0,0", "0,0,0", "pauser"),
+                    "pause_timeout=\"1.5\""));
+  RunFor(*sim, 0.2);  // the pause reaches it a tick after it is sent
+  const Vec3 start = At(*sim, "f");
+  RunFor(*sim, 1.2);
+  EXPECT_LT((At(*sim, "f") - start).norm(), 0.002) << "held still while paused";
+  RunFor(*sim, 1.5);
+  EXPECT_GT((At(*sim, "f") - start).norm(), 0.05) << "moved on after the time-out";
+}
+
+TEST(pushpull, BadParametersAreNamedWithTheirLine) {
+  EXPECT_TRUE(Mentions(LoadError(Scene(Footbot("f", "0,0,0", "0,0,0"), "speed=\"fast\"")),
+                       {"speed", "'fast'"}));
+  const std::string e = LoadError(Scene(Footbot("f", "0,0,0", "0,0,0"), "pause_timeout=\"-1\""));
+  EXPECT_TRUE(Mentions(e, {"pause_timeout", "-1"})) << e;
+}
+
+}  // namespace
+}  // namespace colony::testing
