@@ -2,12 +2,16 @@
 // 003, 6.2.1): it finds a hand-bot's slot with its camera, connects to the
 // hand-bot's ring there and pushes or pulls it; it holds still when a
 // connecting foot-bot asks it to, until the time-out.
+#include <algorithm>
 #include <cmath>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "actuators/gripper/gripper_state.h"
 #include "actuators/leds/leds.h"
 #include "actuators/range_and_bearing/range_and_bearing.h"
+#include "actuators/rope_launcher/rope_state.h"
 #include "controllers/pushpull/pushpull_protocol.h"
 #include "core/registry.h"
 #include "sensors/positioning/positioning.h"
@@ -180,6 +184,99 @@ TEST(pushpull, BadParametersAreNamedWithTheirLine) {
                        {"speed", "'fast'"}));
   const std::string e = LoadError(Scene(Footbot("f", "0,0,0", "0,0,0"), "pause_timeout=\"-1\""));
   EXPECT_TRUE(Mentions(e, {"pause_timeout", "-1"})) << e;
+}
+
+// Two hand-bots by a 3 kg object under a ceiling 2.5 m up, their ropes on the
+// ceiling above them (rope_anchor), both trying to lift at once.
+std::string LiftScene(const std::string& b_position,
+                      const std::string& params = "try_probability=\"10\"") {
+  return R"(<colony>
+  <framework><experiment length="30" ticks_per_second="10" random_seed="1"/></framework>
+  <controllers>
+    <pushpull_handbot id="hb" library="pushpull_handbot">
+      <actuators><rope_launcher/><handbot_arms/><handbot_grippers/><handbot_fans/><leds/>
+        <range_and_bearing data_size="4"/></actuators>
+      <sensors><rope_traction/><imu/><handbot_gripper_proximity/><handbot_grippers/>
+        <range_and_bearing/></sensors>
+      <params retry_time="1000" )" +
+         params + R"(/>
+    </pushpull_handbot>
+  </controllers>
+  <arena size="3,3,3" center="0,0,1.5">
+    <ceiling height="2.5"/>
+    <handbot id="a" rope_anchor="-0.4,0"><body position="-0.4,0,0"/><controller config="hb"/></handbot>
+    <handbot id="b" rope_anchor="0.4,0"><body position=")" +
+         b_position + R"(" orientation="180,0,0"/><controller config="hb"/></handbot>
+    <box id="object" size="0.1,0.4,0.25" movable="true" mass="3"><body position="0,0,0"/></box>
+  </arena>
+  <physics_engines><dynamics3d id="d3d" stepper="worldstep"/></physics_engines>
+  <media><range_and_bearing id="rab"/><led id="leds"/></media>
+</colony>)";
+}
+
+double TiltOf(Simulation& sim, const std::string& id) {
+  const Quat& q = sim.space().pose(sim.space().Find(id).index).orientation;
+  return std::acos(std::clamp((q * Vec3::UnitZ()).z(), -1.0, 1.0));
+}
+
+std::span<const Color> LedsOf(const Simulation& sim, const std::string& id) {
+  return sim.space().leds(sim.space().Find(id).index);
+}
+
+TEST(pushpull, TwoHandBotsOnEitherSideLiftTheObjectLevel) {
+  auto sim = LoadXml(LiftScene("0.4,0,0"));
+  while (!sim->Done()) sim->Step();
+  EXPECT_GT(At(*sim, "object").z(), 0.09) << "lifted 0.1 m";
+  EXPECT_LT(TiltOf(*sim, "a"), 0.02);
+  EXPECT_LT(TiltOf(*sim, "b"), 0.02);
+  EXPECT_LT(TiltOf(*sim, "object"), 0.02);
+}
+
+TEST(pushpull, AHandBotAloneTipsGivesUpAndTheOtherAsksToBePushed) {
+  // b stands 0.5 m back from the object: it does not see it, so it shows a
+  // push slot and does not try; a, alone, tips forward and goes back down.
+  auto sim = LoadXml(LiftScene("0.9,0,0"));
+  double highest = 0, most_tilt = 0;
+  while (!sim->Done()) {
+    sim->Step();
+    highest = std::max(highest, At(*sim, "object").z());
+    most_tilt = std::max(most_tilt, TiltOf(*sim, "a"));
+  }
+  EXPECT_GT(most_tilt, 0.08) << "a tipped forward holding the object alone";
+  EXPECT_LT(highest, 0.09) << "the object never reached the lift height";
+  EXPECT_LT(At(*sim, "object").z(), 0.005) << "back on the floor";
+  EXPECT_LT(At(*sim, "a").z(), 0.005) << "a back on the floor";
+  const auto b = LedsOf(*sim, "b");
+  EXPECT_EQ(b[6], kSlotBlue);
+  EXPECT_EQ(b[7], kPushViolet) << "b asks to be pushed to the object";
+  const auto a = LedsOf(*sim, "a");
+  EXPECT_EQ(a[6], kOff) << "a sees the object: no slot";
+}
+
+TEST(pushpull, AHandBotPressedAgainstTheObjectAsksToBePulledBack) {
+  auto sim = LoadXml(LiftScene("0.4,0,0", "try_probability=\"0\" press=\"0.3\" see=\"0.1\""));
+  RunFor(*sim, 1);
+  const auto a = LedsOf(*sim, "a");
+  EXPECT_EQ(a[6], kSlotBlue);
+  EXPECT_EQ(a[7], kPullGreen);
+}
+
+TEST(pushpull, AHandBotsRopeStartsOnTheCeilingWhereTheFileSays) {
+  auto sim = LoadXml(LiftScene("0.4,0,0", "try_probability=\"0\""));
+  RunFor(*sim, 0.2);
+  const RopeState& rope = *sim->space().Get<RopeState>(sim->space().Find("a").index);
+  ASSERT_TRUE(rope.attached());
+  EXPECT_NEAR(rope.anchor.x(), -0.4, 1e-9);
+  EXPECT_NEAR(rope.anchor.z(), 2.5, 1e-9);
+  EXPECT_NEAR(rope.length, 2.5 - 0.33, 0.002) << "taut, straight up";
+  // Beyond the rope's reach: a warning, and the rope starts in its tube.
+  ::testing::internal::CaptureStderr();
+  std::string far = LiftScene("0.4,0,0", "try_probability=\"0\"");
+  far.replace(far.find("rope_anchor=\"-0.4,0\""), 20, "rope_anchor=\"-4.0,0\"");
+  auto sim2 = LoadXml(far);
+  const std::string log = ::testing::internal::GetCapturedStderr();
+  EXPECT_TRUE(Mentions(log, {"warning", "'a'", "rope_anchor", "beyond rope_length"})) << log;
+  EXPECT_FALSE(sim2->space().Get<RopeState>(sim2->space().Find("a").index)->attached());
 }
 
 }  // namespace

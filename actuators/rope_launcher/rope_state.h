@@ -30,6 +30,10 @@ struct RopeState {
   double max_climb_speed = 0.1;  // m/s, the motor's fastest coiling
   double motor_force = 50;       // N, the most the motor pulls
   double stiffness = 5000;       // N/m: how much the rope pulls per metre it is stretched
+  // Where the magnet already holds to the ceiling when the run starts
+  // (x, y; the entity's rope_anchor attribute), if start_attached.
+  bool start_attached = false;
+  double start_anchor_x = 0, start_anchor_y = 0;
   // State, written by the model.
   Status status = Status::kStowed;
   double length = 0;           // m from the magnet to the launcher's top (0 stowed)

@@ -39,6 +39,7 @@
 #include "actuators/rope_launcher/rope_state.h"
 #include "core/log.h"
 #include "core/space.h"
+#include "core/text.h"
 #include "engines/dynamics3d/dynamics3d.h"
 #include "entities/handbot/handbot.h"
 
@@ -104,10 +105,33 @@ class HandbotDynamics3dModel : public Dynamics3dModel {
     dGeomSetOffsetPosition(tube, -com.x(), 0, kHullHeight + 0.5 * kLauncherHeight - com.z());
     AddArms(engine, s, r, hull, parts);
     // A robot migrating in with its magnet on the ceiling keeps it there.
-    const RopeState& rope = *space.Get<RopeState>(s);
+    RopeState& rope = *space.Get<RopeState>(s);
     if (rope.attached()) {
       r.attached = true;
       r.paid_out = rope.paid_out;
+    } else if (rope.start_attached) {
+      // rope_anchor: the magnet already holds there, the rope taut.
+      rope.start_attached = false;
+      const auto& ceiling = space.ceiling();
+      const Vec3 top = LauncherTop(engine, s);
+      const Vec3 anchor(rope.start_anchor_x, rope.start_anchor_y, ceiling ? ceiling->z : 0.0);
+      const double length = (anchor - top).norm();
+      if (!ceiling || !ceiling->ferromagnetic || length > rope.max_length) {
+        LogWarning("hand-bot '" + space.id(s) + "': rope_anchor " + FormatNumber(anchor.x()) + "," +
+                   FormatNumber(anchor.y()) + ": " +
+                   (!ceiling                  ? std::string("there is no <ceiling>")
+                    : !ceiling->ferromagnetic ? std::string("the ceiling is not ferromagnetic")
+                                              : "the ceiling there is " + FormatNumber(length) +
+                                                    " m from the launcher, beyond rope_length " +
+                                                    FormatNumber(rope.max_length)) +
+                   "; the rope starts in its tube");
+      } else {
+        rope.status = RopeState::Status::kAttached;
+        rope.anchor = anchor;
+        rope.paid_out = length;
+        r.attached = true;
+        r.paid_out = length;
+      }
     }
   }
 

@@ -40,6 +40,12 @@ class HandbotType : public EntityType {
     rope.max_climb_speed = node.GetDouble("climb_speed", kRopeMaxClimbSpeed, Range::Positive());
     rope.motor_force = node.GetDouble("rope_force", kRopeMotorForce, Range::Positive());
     rope.stiffness = node.GetDouble("rope_stiffness", kRopeStiffness, Range::Positive());
+    if (node.Has("rope_anchor")) {
+      const auto xy = node.GetPair("rope_anchor", {0, 0});
+      rope.start_attached = true;
+      rope.start_anchor_x = xy[0];
+      rope.start_anchor_y = xy[1];
+    }
     HandbotArmsState& arms = init.components.Add<HandbotArmsState>();
     arms.head.motor = {kHeadStallTorque, kHeadNoLoadSpeed};
     arms.head.speed = kHeadNominalSpeed;
@@ -82,6 +88,8 @@ COLONY_REGISTER_ENTITY(
          "most the rope motor pulls (climbing stalls beyond it)"},
         {"rope_stiffness", "a number > 0 (N/m)", "5000",
          "the rope's pull per metre it is stretched (a 2 kg robot stretches it 4 mm)"},
+        {"rope_anchor", "\"x,y\" (m)", "none: the rope starts in its tube",
+         "the magnet already holds to the ceiling above (x, y) when the run starts, the rope taut"},
         {"holding_limit", "a number > 0 (N)", "39.24",
          "pull beyond which a grasped thing slips out of a gripper"},
         {"fan_torque", "a number > 0 (N m)", "0.05", "most yaw torque the two fans give together"},
