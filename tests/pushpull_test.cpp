@@ -204,10 +204,10 @@ std::string LiftScene(const std::string& b_position,
   </controllers>
   <arena size="3,3,3" center="0,0,1.5">
     <ceiling height="2.5"/>
-    <handbot id="a" rope_anchor="-0.4,0"><body position="-0.4,0,0"/><controller config="hb"/></handbot>
-    <handbot id="b" rope_anchor="0.4,0"><body position=")" +
+    <handbot id="a" rope_anchor="-0.5,0"><body position="-0.5,0,0"/><controller config="hb"/></handbot>
+    <handbot id="b" rope_anchor="0.5,0"><body position=")" +
          b_position + R"(" orientation="180,0,0"/><controller config="hb"/></handbot>
-    <box id="object" size="0.1,0.4,0.25" movable="true" mass="3"><body position="0,0,0"/></box>
+    <box id="object" size="0.3,0.4,0.22" movable="true" mass="3"><body position="0,0,0"/></box>
   </arena>
   <physics_engines><dynamics3d id="d3d" stepper="worldstep"/></physics_engines>
   <media><range_and_bearing id="rab"/><led id="leds"/></media>
@@ -224,7 +224,7 @@ std::span<const Color> LedsOf(const Simulation& sim, const std::string& id) {
 }
 
 TEST(pushpull, TwoHandBotsOnEitherSideLiftTheObjectLevel) {
-  auto sim = LoadXml(LiftScene("0.4,0,0"));
+  auto sim = LoadXml(LiftScene("0.5,0,0"));
   while (!sim->Done()) sim->Step();
   EXPECT_GT(At(*sim, "object").z(), 0.09) << "lifted 0.1 m";
   EXPECT_LT(TiltOf(*sim, "a"), 0.02);
@@ -233,9 +233,9 @@ TEST(pushpull, TwoHandBotsOnEitherSideLiftTheObjectLevel) {
 }
 
 TEST(pushpull, AHandBotAloneTipsGivesUpAndTheOtherAsksToBePushed) {
-  // b stands 0.5 m back from the object: it does not see it, so it shows a
+  // b stands 0.5 m back from where it would reach the object: it does not see it, so it shows a
   // push slot and does not try; a, alone, tips forward and goes back down.
-  auto sim = LoadXml(LiftScene("0.9,0,0"));
+  auto sim = LoadXml(LiftScene("1.0,0,0"));
   double highest = 0, most_tilt = 0;
   while (!sim->Done()) {
     sim->Step();
@@ -254,7 +254,7 @@ TEST(pushpull, AHandBotAloneTipsGivesUpAndTheOtherAsksToBePushed) {
 }
 
 TEST(pushpull, AHandBotPressedAgainstTheObjectAsksToBePulledBack) {
-  auto sim = LoadXml(LiftScene("0.4,0,0", "try_probability=\"0\" press=\"0.3\" see=\"0.1\""));
+  auto sim = LoadXml(LiftScene("0.5,0,0", "try_probability=\"0\" press=\"0.3\" see=\"0.1\""));
   RunFor(*sim, 1);
   const auto a = LedsOf(*sim, "a");
   EXPECT_EQ(a[6], kSlotBlue);
@@ -262,17 +262,17 @@ TEST(pushpull, AHandBotPressedAgainstTheObjectAsksToBePulledBack) {
 }
 
 TEST(pushpull, AHandBotsRopeStartsOnTheCeilingWhereTheFileSays) {
-  auto sim = LoadXml(LiftScene("0.4,0,0", "try_probability=\"0\""));
+  auto sim = LoadXml(LiftScene("0.5,0,0", "try_probability=\"0\""));
   RunFor(*sim, 0.2);
   const RopeState& rope = *sim->space().Get<RopeState>(sim->space().Find("a").index);
   ASSERT_TRUE(rope.attached());
-  EXPECT_NEAR(rope.anchor.x(), -0.4, 1e-9);
+  EXPECT_NEAR(rope.anchor.x(), -0.5, 1e-9);
   EXPECT_NEAR(rope.anchor.z(), 2.5, 1e-9);
   EXPECT_NEAR(rope.length, 2.5 - 0.33, 0.002) << "taut, straight up";
   // Beyond the rope's reach: a warning, and the rope starts in its tube.
   ::testing::internal::CaptureStderr();
-  std::string far = LiftScene("0.4,0,0", "try_probability=\"0\"");
-  far.replace(far.find("rope_anchor=\"-0.4,0\""), 20, "rope_anchor=\"-4.0,0\"");
+  std::string far = LiftScene("0.5,0,0", "try_probability=\"0\"");
+  far.replace(far.find("rope_anchor=\"-0.5,0\""), 20, "rope_anchor=\"-4.0,0\"");
   auto sim2 = LoadXml(far);
   const std::string log = ::testing::internal::GetCapturedStderr();
   EXPECT_TRUE(Mentions(log, {"warning", "'a'", "rope_anchor", "beyond rope_length"})) << log;

@@ -21,6 +21,9 @@
 //   avoidance (3): how hard it steers away from what its proximity ring sees,
 //   dock_distance (m, 0.18): centre to centre when connecting,
 //   staging (m, 0.15): how far out from the slot it lines up first,
+//   approach_timeout (s, 20): lining up longer than this (crowded out by
+//     others), it backs off and ignores slots for a random 1 to 3 times
+//     ignore_time,
 //   connect_timeout (s, 15), move_time (s, 10): the longest push or pull,
 //   pause_timeout (s, 5), pause_radius (m, 1), wait_radius (m, 1.5),
 //   back_time (s, 2): backing off after letting go,
@@ -77,6 +80,7 @@ class PushPullFootbot : public Controller {
     avoidance_ = params.GetDouble("avoidance", 3, 0, 1e3);
     dock_ = params.GetDouble("dock_distance", 0.18, 0.1, 0.5);
     staging_ = params.GetDouble("staging", 0.15, 0.02, 1);
+    approach_timeout_ = params.GetDouble("approach_timeout", 20, 0.1, 1e6);
     connect_timeout_ = params.GetDouble("connect_timeout", 15, 0.1, 1e6);
     move_time_ = params.GetDouble("move_time", 10, 0.1, 1e6);
     pause_timeout_ = params.GetDouble("pause_timeout", 5, 0.1, 1e6);
@@ -140,7 +144,8 @@ class PushPullFootbot : public Controller {
         gripper_->Release();
         wheels_->SetLinearVelocity(-speed_, -speed_);
         if (in_state_ >= back_time_) {
-          ignore_left_ = ignore_time_;
+          ignore_left_ = backoff_ > 0 ? backoff_ : ignore_time_;
+          backoff_ = 0;
           Enter(State::kSearch);
         }
         break;
@@ -241,6 +246,13 @@ class PushPullFootbot : public Controller {
       Enter(State::kSearch);
       return;
     }
+    // Crowded out (others around the same slot): back off for a random
+    // while, as MACA's stations do.
+    if (in_state_ > approach_timeout_) {
+      backoff_ = ignore_time_ * (1 + 2 * rng().Uniform());
+      Enter(State::kBackOff);
+      return;
+    }
     const Slot& s = slots.front();
     const Point staging = s.centre + s.outward * (dock_ + staging_);
     if (staging.Norm() > 0.03) {
@@ -316,6 +328,7 @@ class PushPullFootbot : public Controller {
   double speed_ = 0.1, move_speed_ = 0.05, avoidance_ = 3, dock_ = 0.18, staging_ = 0.15;
   double connect_timeout_ = 15, move_time_ = 10, pause_timeout_ = 5, pause_radius_ = 1;
   double wait_radius_ = 1.5, back_time_ = 2, ignore_time_ = 5;
+  double approach_timeout_ = 20, backoff_ = 0;
   double in_state_ = 0, paused_for_ = 0, ignore_left_ = 0;
   bool push_ = false;
   uint16_t token_ = 1;

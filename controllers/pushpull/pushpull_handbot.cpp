@@ -22,7 +22,7 @@
 // handbot_grippers, handbot_fans, leds, range_and_bearing (data_size >= 4).
 // params: try_probability (1/s, 0.02), lift_speed (m/s, 0.02), lift_height
 // (m, 0.1), max_traction (N, 40), min_traction (N, 5), max_tilt (rad, 0.1),
-// retry_time (s, 20: the least time between two tries), see (IR reading,
+// retry_time (s, 20: the least time between two of its own calls to try), see (IR reading,
 // 0.3: the object within the claws' reach), press (IR reading, 0.9: pressed
 // against it).
 #include <algorithm>
@@ -88,6 +88,7 @@ class PushPullHandbot : public Controller {
                                " (give the actuator data_size=\"4\" or more)");
     }
     since_try_ = retry_time_;
+    in_state_ = 1;  // standing since before the run
   }
 
   void ControlStep() override {
@@ -109,12 +110,16 @@ class PushPullHandbot : public Controller {
           rope_->Launch();
           in_state_ = 0;
         }
-        if (rng().Bernoulli(try_probability_ * kDt)) {
+        // It asks at random, at most every retry_time; every hand-bot that
+        // hears the call (or made it) and stands ready answers it, so hand-bots
+        // by the object try together.
+        if (since_try_ >= retry_time_ && SeesObject() && traction_->attached() &&
+            rng().Bernoulli(try_probability_ * kDt)) {
           rab_out_->SetByte(0, kTryLift);
+          since_try_ = 0;
           try_lift = true;
         }
-        if (try_lift && since_try_ >= retry_time_ && SeesObject() && traction_->attached()) {
-          since_try_ = 0;
+        if (try_lift && in_state_ >= 1 && SeesObject() && traction_->attached()) {
           failure_ = Failure::kNone;
           Enter(State::kGrasp);
         }
