@@ -216,7 +216,11 @@ class PushPullFootbot : public Controller {
         Slot s;
         s.push = push;
         s.centre = middle + left * h;
-        s.outward = left * -1.0;
+        // The foot-bot lines up on the blue LED: the hand-bot puts it on the
+        // axis it wants to be moved along, so the push or pull goes through
+        // its centre along that axis.
+        const Point radial = a - s.centre;
+        s.outward = radial * (1.0 / std::max(radial.Norm(), 1e-9));
         s.distance = middle.Norm();
         slots.push_back(s);
       }
