@@ -4,6 +4,8 @@
 // connecting foot-bot asks it to, until the time-out.
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -254,7 +256,8 @@ TEST(pushpull, AHandBotAloneTipsGivesUpAndTheOtherAsksToBePushed) {
 }
 
 TEST(pushpull, AHandBotPressedAgainstTheObjectAsksToBePulledBack) {
-  auto sim = LoadXml(LiftScene("0.5,0,0", "try_probability=\"0\" press=\"0.3\" see=\"0.1\""));
+  auto sim = LoadXml(
+      LiftScene("0.5,0,0", "try_probability=\"0\" press=\"0.3\" see=\"0.1\" reach=\"0.05\""));
   RunFor(*sim, 1);
   const auto a = LedsOf(*sim, "a");
   EXPECT_EQ(a[6], kSlotBlue);
@@ -277,6 +280,63 @@ TEST(pushpull, AHandBotsRopeStartsOnTheCeilingWhereTheFileSays) {
   const std::string log = ::testing::internal::GetCapturedStderr();
   EXPECT_TRUE(Mentions(log, {"warning", "'a'", "rope_anchor", "beyond rope_length"})) << log;
   EXPECT_FALSE(sim2->space().Get<RopeState>(sim2->space().Find("a").index)->attached());
+}
+
+double Metric(const Simulation& sim, const std::string& name) {
+  const auto& m = const_cast<Simulation&>(sim).metrics();
+  for (size_t i = 0; i < m.columns().size(); ++i) {
+    if (m.columns()[i] == name) return m.values()[i];
+  }
+  ADD_FAILURE() << "no metric '" << name << "'";
+  return NAN;
+}
+
+std::unique_ptr<Simulation> LoadPushPull(uint64_t seed, std::vector<std::string> overrides = {},
+                                         std::optional<int> threads = std::nullopt) {
+  ExperimentOptions options;
+  options.file = COLONY_SOURCE_DIR "/experiments/pushpull.xml";
+  options.seed = seed;
+  options.threads = threads;
+  options.overrides = std::move(overrides);
+  return Simulation::Load(options);
+}
+
+TEST(pushpull, TheExperimentWithThreeFootBotsSucceeds) {
+  // Seeds 1-3 with the file's 3 foot-bots: the foot-bots push the east
+  // hand-bot to the object and the two hand-bots lift it.
+  int successes = 0;
+  for (uint64_t seed : {1, 2, 3}) {
+    auto sim = LoadPushPull(seed);
+    while (!sim->Done()) sim->Step();
+    if (Metric(*sim, "success") != 1) continue;
+    ++successes;
+    EXPECT_LT(Metric(*sim, "completion_tick"), 50000) << "seed " << seed;
+    EXPECT_GE(Metric(*sim, "connections"), 1) << "seed " << seed << ": a foot-bot pushed";
+    EXPECT_GE(Metric(*sim, "lift_attempts"), 2) << "seed " << seed;
+    EXPECT_GT(At(*sim, "object").z(), 0.085) << "seed " << seed;
+  }
+  EXPECT_GE(successes, 1);
+}
+
+TEST(pushpull, SameFinalHashWith0And1And2Threads) {
+  std::vector<uint64_t> hashes;
+  for (int threads : {0, 1, 2}) {
+    auto sim = LoadPushPull(2, {"framework.experiment.length=120"}, threads);
+    while (!sim->Done()) sim->Step();
+    hashes.push_back(sim->StateHash());
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
+  EXPECT_EQ(hashes[0], hashes[2]);
+}
+
+TEST(pushpull, BadLoopFunctionAndControllerParametersAreRefused) {
+  const std::string file = ReadFile(COLONY_SOURCE_DIR "/experiments/pushpull.xml");
+  EXPECT_TRUE(Mentions(LoadError(file, {"loop_functions.params.object=nothing"}),
+                       {"object", "nothing", "no entity"}));
+  EXPECT_TRUE(Mentions(LoadError(file, {"controllers.pushpull_handbot.params.reach=0.5"}),
+                       {"reach", "see"}));
+  EXPECT_TRUE(Mentions(LoadError(file, {"controllers.pushpull_footbot.params.move_time=never"}),
+                       {"move_time", "never"}));
 }
 
 }  // namespace

@@ -63,8 +63,15 @@ class PushPullHandbot : public Controller {
     min_traction_ = params.GetDouble("min_traction", 5, 0, 1e6);
     max_tilt_ = params.GetDouble("max_tilt", 0.1, 0.001, 1.5);
     retry_time_ = params.GetDouble("retry_time", 20, 0, 1e6);
-    see_ = params.GetDouble("see", 0.3, 0.001, 1);
+    see_ = params.GetDouble("see", 0.35, 0.001, 1);
+    reach_ = params.GetDouble("reach", 0.2, 0.001, 1);
+    if (reach_ > see_) {
+      throw ParamError("reach", std::to_string(reach_),
+                       "parameter 'reach' (" + std::to_string(reach_) +
+                           ") must not be above parameter 'see' (" + std::to_string(see_) + ")");
+    }
     press_ = params.GetDouble("press", 0.9, 0.001, 1);
+    align_tolerance_ = params.GetDouble("align_tolerance", 0.15, 0.001, M_PI);
     if (press_ <= see_) {
       throw ParamError("press", std::to_string(press_),
                        "parameter 'press' (" + std::to_string(press_) +
@@ -94,6 +101,9 @@ class PushPullHandbot : public Controller {
   void ControlStep() override {
     in_state_ += kDt;
     since_try_ += kDt;
+    // Its heading from where it started (facing the object), from the
+    // gyroscope.
+    heading_ = std::remainder(heading_ + imu_->angular_velocity()[2] * kDt, 2 * M_PI);
     for (int g : {kLeft, kRight}) arms_->SetExtension(g, M_PI / 2);
     fans_->SetTorque(0);
     rab_out_->SetByte(0, kNothing);
@@ -113,17 +123,41 @@ class PushPullHandbot : public Controller {
         // It asks at random, at most every retry_time; every hand-bot that
         // hears the call (or made it) and stands ready answers it, so hand-bots
         // by the object try together.
-        if (since_try_ >= retry_time_ && SeesObject() && traction_->attached() &&
+        if (since_try_ >= retry_time_ && InReach() && traction_->attached() &&
             rng().Bernoulli(try_probability_ * kDt)) {
           rab_out_->SetByte(0, kTryLift);
           since_try_ = 0;
           try_lift = true;
         }
-        if (try_lift && in_state_ >= 1 && SeesObject() && traction_->attached()) {
+        if (try_lift && in_state_ >= 1 && InReach() && traction_->attached()) {
           failure_ = Failure::kNone;
           Enter(State::kGrasp);
+        } else if (in_state_ >= 2 && traction_->attached() &&
+                   std::abs(heading_) > align_tolerance_) {
+          // Turned away from the object by a push or a bump (its gyroscope
+          // says how far): it hangs just off the floor and turns back with
+          // its fans.
+          start_length_ = traction_->length();
+          Enter(State::kAlign);
         }
         break;
+      case State::kAlign: {
+        leds_->SetAllColors(kOff);
+        rab_out_->SetByte(0, kWait);
+        const bool hanging = start_length_ - traction_->length() >= 0.02;
+        rope_->SetClimbSpeed(hanging ? 0.0 : lift_speed_);
+        const double rate = imu_->angular_velocity()[2];
+        if (hanging) {
+          const double most = fans_->max_torque();
+          fans_->SetTorque(std::clamp(-0.2 * heading_ - 0.1 * rate, -most, most));
+          if (std::abs(heading_) < 0.3 * align_tolerance_ && std::abs(rate) < 0.02) {
+            fans_->SetTorque(0);
+            Enter(State::kDown);
+          }
+        }
+        if (in_state_ > 60) Enter(State::kDown);
+        break;
+      }
       case State::kGrasp:
         leds_->SetAllColors(kOff);
         for (int g : {kLeft, kRight}) grippers_->Close(g);
@@ -165,7 +199,7 @@ class PushPullHandbot : public Controller {
   }
 
  private:
-  enum class State { kStand, kGrasp, kLift, kDown, kLifted };
+  enum class State { kStand, kAlign, kGrasp, kLift, kDown, kLifted };
 
   // Tilt from the accelerometer (at rest it reads +g along the body's z):
   // tipped forward it reads a negative x.
@@ -199,6 +233,9 @@ class PushPullHandbot : public Controller {
   }
 
   bool SeesObject() const { return Seen() > see_; }
+  // Near enough to grasp it: readings flicker with noise, so this is lower
+  // than `see`, which ends the push.
+  bool InReach() const { return Seen() > reach_; }
   bool Holding() const {
     return grippers_sensor_->holding(kLeft) || grippers_sensor_->holding(kRight);
   }
@@ -209,6 +246,7 @@ class PushPullHandbot : public Controller {
 
   double try_probability_ = 0.02, lift_speed_ = 0.02, lift_height_ = 0.1, max_traction_ = 40;
   double min_traction_ = 5, max_tilt_ = 0.1, retry_time_ = 20, see_ = 0.3, press_ = 0.9;
+  double align_tolerance_ = 0.15, heading_ = 0, reach_ = 0.2;
   double in_state_ = 0, since_try_ = 0, start_length_ = 0;
   State state_ = State::kStand;
   Failure failure_ = Failure::kNone;
