@@ -15,23 +15,10 @@ struct Outcome {
   std::unique_ptr<Simulation> sim;
 };
 
-double Metric(const Simulation& sim, const std::string& name) {
-  const auto& sim_metrics = const_cast<Simulation&>(sim).metrics();
-  for (size_t i = 0; i < sim_metrics.columns().size(); ++i) {
-    if (sim_metrics.columns()[i] == name) return sim_metrics.values()[i];
-  }
-  ADD_FAILURE() << "no metric '" << name << "'";
-  return NAN;
-}
-
 Outcome RunExperiment(const std::string& file, uint64_t seed,
                       std::vector<std::string> overrides = {}) {
-  ExperimentOptions options;
-  options.file = COLONY_SOURCE_DIR "/experiments/" + file;
-  options.seed = seed;
-  options.overrides = std::move(overrides);
   Outcome o;
-  o.sim = Simulation::Load(options);
+  o.sim = LoadExperiment(file, seed, std::move(overrides));
   while (!o.sim->Done()) o.sim->Step();
   o.success = Metric(*o.sim, "success") == 1;
   o.failed = Metric(*o.sim, "failed") == 1;

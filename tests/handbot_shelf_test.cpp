@@ -14,23 +14,9 @@
 namespace colony::testing {
 namespace {
 
-double Metric(const Simulation& sim, const std::string& name) {
-  const auto& m = const_cast<Simulation&>(sim).metrics();
-  for (size_t i = 0; i < m.columns().size(); ++i) {
-    if (m.columns()[i] == name) return m.values()[i];
-  }
-  ADD_FAILURE() << "no metric '" << name << "'";
-  return NAN;
-}
-
 std::unique_ptr<Simulation> Load(uint64_t seed, std::vector<std::string> overrides = {},
                                  std::optional<int> threads = std::nullopt) {
-  ExperimentOptions options;
-  options.file = COLONY_SOURCE_DIR "/experiments/handbot_shelf.xml";
-  options.seed = seed;
-  options.threads = threads;
-  options.overrides = std::move(overrides);
-  return Simulation::Load(options);
+  return LoadExperiment("handbot_shelf.xml", seed, std::move(overrides), threads);
 }
 
 TEST(handbot_shelf, TheBookComesDownForSeedsOneToThree) {

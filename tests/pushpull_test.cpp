@@ -132,28 +132,20 @@ std::string Footbot(const std::string& id, const std::string& position,
          orientation + "\"/><controller config=\"" + config + "\"/></marxbot>";
 }
 
-void RunFor(Simulation& sim, double seconds) {
-  for (int t = 0; t < static_cast<int>(std::lround(seconds * 10)); ++t) sim.Step();
-}
-
-Vec3 At(Simulation& sim, const std::string& id) {
-  return sim.space().pose(sim.space().Find(id).index).position;
-}
-
 TEST(pushpull, AFootBotFindsAPullSlotConnectsAndPullsTheHandBot) {
   // The hand-bot's slot at LEDs 6-7 faces -x; the foot-bot starts 1 m away,
   // off to the side, facing away.
   auto sim = LoadXml(
       Scene(Handbot("0,0,0") + Footbot("f", "-1,0.5,0", "90,0,0"), "", "slot=\"6\" until=\"0.3\""));
   const uint32_t f = sim->space().Find("f").index;
-  const Vec3 start = At(*sim, "h");
+  const Vec3 start = PositionOf(*sim, "h");
   bool held = false;
   while (!sim->Done()) {
     sim->Step();
     held = held || sim->space().Get<GripperState>(f)->holding();
   }
   EXPECT_TRUE(held) << "connected to the hand-bot";
-  const Vec3 end = At(*sim, "h");
+  const Vec3 end = PositionOf(*sim, "h");
   EXPECT_GT((end - start).norm(), 0.3) << "moved the hand-bot";
   EXPECT_LT(end.x() - start.x(), -0.25) << "pulled it out towards the slot's side";
   EXPECT_FALSE(sim->space().Get<GripperState>(f)->holding()) << "and let go";
@@ -162,9 +154,9 @@ TEST(pushpull, AFootBotFindsAPullSlotConnectsAndPullsTheHandBot) {
 TEST(pushpull, AFootBotPushesAtAPushSlot) {
   auto sim = LoadXml(Scene(Handbot("0,0,0") + Footbot("f", "-1,-0.5,0", "0,0,0"), "",
                            "slot=\"6\" push=\"true\" until=\"0.3\""));
-  const Vec3 start = At(*sim, "h");
+  const Vec3 start = PositionOf(*sim, "h");
   while (!sim->Done()) sim->Step();
-  EXPECT_GT(At(*sim, "h").x() - start.x(), 0.25) << "pushed away from the slot's side";
+  EXPECT_GT(PositionOf(*sim, "h").x() - start.x(), 0.25) << "pushed away from the slot's side";
 }
 
 TEST(pushpull, AFootBotThatHearsAPauseHoldsStillUntilTheTimeOut) {
@@ -174,11 +166,11 @@ TEST(pushpull, AFootBotThatHearsAPauseHoldsStillUntilTheTimeOut) {
       LoadXml(Scene(Footbot("f", "0,0,0", "0,0,0") + Footbot("p", "-0.7,0,0", "0,0,0", "pauser"),
                     "pause_timeout=\"1.5\""));
   RunFor(*sim, 0.2);  // the pause reaches it a tick after it is sent
-  const Vec3 start = At(*sim, "f");
+  const Vec3 start = PositionOf(*sim, "f");
   RunFor(*sim, 1.2);
-  EXPECT_LT((At(*sim, "f") - start).norm(), 0.002) << "held still while paused";
+  EXPECT_LT((PositionOf(*sim, "f") - start).norm(), 0.002) << "held still while paused";
   RunFor(*sim, 1.5);
-  EXPECT_GT((At(*sim, "f") - start).norm(), 0.05) << "moved on after the time-out";
+  EXPECT_GT((PositionOf(*sim, "f") - start).norm(), 0.05) << "moved on after the time-out";
 }
 
 TEST(pushpull, BadParametersAreNamedWithTheirLine) {
@@ -228,7 +220,7 @@ std::span<const Color> LedsOf(const Simulation& sim, const std::string& id) {
 TEST(pushpull, TwoHandBotsOnEitherSideLiftTheObjectLevel) {
   auto sim = LoadXml(LiftScene("0.5,0,0"));
   while (!sim->Done()) sim->Step();
-  EXPECT_GT(At(*sim, "object").z(), 0.09) << "lifted 0.1 m";
+  EXPECT_GT(PositionOf(*sim, "object").z(), 0.09) << "lifted 0.1 m";
   EXPECT_LT(TiltOf(*sim, "a"), 0.02);
   EXPECT_LT(TiltOf(*sim, "b"), 0.02);
   EXPECT_LT(TiltOf(*sim, "object"), 0.02);
@@ -241,13 +233,13 @@ TEST(pushpull, AHandBotAloneTipsGivesUpAndTheOtherAsksToBePushed) {
   double highest = 0, most_tilt = 0;
   while (!sim->Done()) {
     sim->Step();
-    highest = std::max(highest, At(*sim, "object").z());
+    highest = std::max(highest, PositionOf(*sim, "object").z());
     most_tilt = std::max(most_tilt, TiltOf(*sim, "a"));
   }
   EXPECT_GT(most_tilt, 0.08) << "a tipped forward holding the object alone";
   EXPECT_LT(highest, 0.09) << "the object never reached the lift height";
-  EXPECT_LT(At(*sim, "object").z(), 0.005) << "back on the floor";
-  EXPECT_LT(At(*sim, "a").z(), 0.005) << "a back on the floor";
+  EXPECT_LT(PositionOf(*sim, "object").z(), 0.005) << "back on the floor";
+  EXPECT_LT(PositionOf(*sim, "a").z(), 0.005) << "a back on the floor";
   const auto b = LedsOf(*sim, "b");
   EXPECT_EQ(b[6], kSlotBlue);
   EXPECT_EQ(b[7], kPushViolet) << "b asks to be pushed to the object";
@@ -282,23 +274,9 @@ TEST(pushpull, AHandBotsRopeStartsOnTheCeilingWhereTheFileSays) {
   EXPECT_FALSE(sim2->space().Get<RopeState>(sim2->space().Find("a").index)->attached());
 }
 
-double Metric(const Simulation& sim, const std::string& name) {
-  const auto& m = const_cast<Simulation&>(sim).metrics();
-  for (size_t i = 0; i < m.columns().size(); ++i) {
-    if (m.columns()[i] == name) return m.values()[i];
-  }
-  ADD_FAILURE() << "no metric '" << name << "'";
-  return NAN;
-}
-
 std::unique_ptr<Simulation> LoadPushPull(uint64_t seed, std::vector<std::string> overrides = {},
                                          std::optional<int> threads = std::nullopt) {
-  ExperimentOptions options;
-  options.file = COLONY_SOURCE_DIR "/experiments/pushpull.xml";
-  options.seed = seed;
-  options.threads = threads;
-  options.overrides = std::move(overrides);
-  return Simulation::Load(options);
+  return LoadExperiment("pushpull.xml", seed, std::move(overrides), threads);
 }
 
 TEST(pushpull, TheExperimentWithThreeFootBotsSucceeds) {
@@ -313,7 +291,7 @@ TEST(pushpull, TheExperimentWithThreeFootBotsSucceeds) {
     EXPECT_LT(Metric(*sim, "completion_tick"), 50000) << "seed " << seed;
     EXPECT_GE(Metric(*sim, "connections"), 1) << "seed " << seed << ": a foot-bot pushed";
     EXPECT_GE(Metric(*sim, "lift_attempts"), 2) << "seed " << seed;
-    EXPECT_GT(At(*sim, "object").z(), 0.085) << "seed " << seed;
+    EXPECT_GT(PositionOf(*sim, "object").z(), 0.085) << "seed " << seed;
   }
   EXPECT_GE(successes, 1);
 }

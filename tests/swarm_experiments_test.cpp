@@ -15,6 +15,8 @@
 namespace colony {
 namespace {
 
+using testing::Metric;
+
 const std::string kFlocking = COLONY_SOURCE_DIR "/experiments/flocking.xml";
 const std::string kAggregation = COLONY_SOURCE_DIR "/experiments/aggregation.xml";
 const std::string kForaging = COLONY_SOURCE_DIR "/experiments/foraging.xml";
@@ -26,17 +28,6 @@ std::unique_ptr<Simulation> Load(const std::string& file, std::vector<std::strin
   options.overrides = std::move(overrides);
   options.threads = threads;
   return Simulation::Load(options);
-}
-
-// The value of metric `name` as the loop functions last set it.
-double Metric(Simulation& sim, const std::string& name) {
-  const auto& columns = sim.metrics().columns();
-  const auto it = std::find(columns.begin(), columns.end(), name);
-  if (it == columns.end()) {
-    ADD_FAILURE() << "no metric '" << name << "'";
-    return std::numeric_limits<double>::quiet_NaN();
-  }
-  return sim.metrics().values()[it - columns.begin()];
 }
 
 void RunUntil(Simulation& sim, double seconds) {

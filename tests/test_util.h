@@ -6,8 +6,11 @@
 #include <spawn.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <regex>
@@ -53,6 +56,42 @@ inline std::unique_ptr<Simulation> LoadXml(const std::string& xml,
 // and -DCOLONY_WITH_DYNAMICS3D=OFF leave engines out).
 inline bool HaveEngine(const std::string& name) {
   return Registry<PhysicsEngine>::Get().Find(name) != nullptr;
+}
+
+// An experiment file of experiments/ (e.g. "pushpull.xml") with `seed`.
+inline std::unique_ptr<Simulation> LoadExperiment(const std::string& file, uint64_t seed,
+                                                  std::vector<std::string> overrides = {},
+                                                  std::optional<int> threads = std::nullopt) {
+  ExperimentOptions options;
+  options.file = std::string(COLONY_SOURCE_DIR) + "/experiments/" + file;
+  options.seed = seed;
+  options.threads = threads;
+  options.overrides = std::move(overrides);
+  return Simulation::Load(options);
+}
+
+// Steps `sim` for `seconds` of simulated time (rounded to whole ticks).
+inline void RunFor(Simulation& sim, double seconds) {
+  const int ticks = static_cast<int>(std::lround(seconds / sim.dt()));
+  for (int t = 0; t < ticks; ++t) sim.Step();
+}
+
+// Where entity `id` is (its base's centre).
+inline Vec3 PositionOf(const Simulation& sim, const std::string& id) {
+  return sim.space().pose(sim.space().Find(id).index).position;
+}
+
+// The value of metric `name` as the loop functions last set it (NaN and a
+// test failure if there is none).
+inline double Metric(const Simulation& sim, const std::string& name) {
+  auto& metrics = const_cast<Simulation&>(sim).metrics();
+  const auto& columns = metrics.columns();
+  const auto it = std::find(columns.begin(), columns.end(), name);
+  if (it == columns.end()) {
+    ADD_FAILURE() << "no metric '" << name << "'";
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return metrics.values()[static_cast<size_t>(it - columns.begin())];
 }
 
 // The message of the ConfigError loading `xml` raises, or "" if it loads.

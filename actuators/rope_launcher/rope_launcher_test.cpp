@@ -67,10 +67,7 @@ RopeProbe& Probe(Simulation& sim) {
 double Height(Simulation& sim) {
   return sim.space().pose(sim.space().Find("h").index).position.z();
 }
-void RunFor(Simulation& sim, double seconds) {
-  const int ticks = static_cast<int>(std::lround(seconds / sim.dt()));
-  for (int t = 0; t < ticks; ++t) sim.Step();
-}
+using testing::RunFor;
 
 TEST(RopeLauncher, ALaunchedRopeHoldsToACeiling2_5mUpAndTheTractionReadsTheWeightWhileItHangs) {
   auto sim = LoadXml(Scene("<ceiling height=\"2.5\"/>"));

@@ -75,10 +75,7 @@ ManipulatorState& Manipulator(Simulation& sim, const std::string& id) {
   return *sim.space().Get<ManipulatorState>(SlotOf(sim, id));
 }
 
-void RunFor(Simulation& sim, double seconds) {
-  const int ticks = static_cast<int>(std::lround(seconds / sim.dt()));
-  for (int t = 0; t < ticks; ++t) sim.Step();
-}
+using testing::RunFor;
 
 // ---------------------------------------------------------------------------
 // Driving.

@@ -74,13 +74,8 @@ std::string Scene(const std::string& arena, const std::string& handbot_attribute
 HandbotProbe& Probe(Simulation& sim) {
   return dynamic_cast<HandbotProbe&>(*sim.ControllerOf(sim.space().Find("h")));
 }
-void RunFor(Simulation& sim, double seconds) {
-  const int ticks = static_cast<int>(std::lround(seconds / sim.dt()));
-  for (int t = 0; t < ticks; ++t) sim.Step();
-}
-Vec3 PositionOf(Simulation& sim, const std::string& id) {
-  return sim.space().pose(sim.space().Find(id).index).position;
-}
+using testing::PositionOf;
+using testing::RunFor;
 
 TEST(Handbot, TheHeadTurnsAtItsCommandedSpeed) {
   auto sim = LoadXml(Scene(""));

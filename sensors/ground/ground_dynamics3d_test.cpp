@@ -45,9 +45,7 @@ std::string Cube(const std::string& id, const std::string& position) {
 GroundDriver& Driver(Simulation& sim, const std::string& id) {
   return dynamic_cast<GroundDriver&>(*sim.ControllerOf(sim.space().Find(id)));
 }
-Vec3 PositionOf(Simulation& sim, const std::string& id) {
-  return sim.space().pose(sim.space().Find(id).index).position;
-}
+using testing::PositionOf;
 
 TEST(GroundOnDynamics3d, SensorsOverADitchReadNoGroundAndOverCubesInItTheirGrey) {
   // A trench 6.2 cm wide and 6 cm deep along y at x = 0.3, on a gray50 floor.

@@ -56,9 +56,7 @@ const std::string kBoard =
 GripperIrProbe& Probe(Simulation& sim) {
   return dynamic_cast<GripperIrProbe&>(*sim.ControllerOf(sim.space().Find("h")));
 }
-void RunFor(Simulation& sim, double seconds) {
-  for (int t = 0; t < static_cast<int>(std::lround(seconds / sim.dt())); ++t) sim.Step();
-}
+using testing::RunFor;
 float Max(const std::vector<HandbotGripperProximitySensor::Reading>& readings) {
   float m = 0;
   for (const auto& r : readings) m = std::max(m, r.value);

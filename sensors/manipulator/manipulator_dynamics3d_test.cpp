@@ -53,14 +53,9 @@ std::unique_ptr<Simulation> Load(const std::string& arena) {
 ManipulatorUser& User(Simulation& sim) {
   return dynamic_cast<ManipulatorUser&>(*sim.ControllerOf(sim.space().Find("r")));
 }
-Vec3 PositionOf(Simulation& sim, const std::string& id) {
-  return sim.space().pose(sim.space().Find(id).index).position;
-}
+using testing::PositionOf;
 
-void RunFor(Simulation& sim, double seconds) {
-  const int ticks = static_cast<int>(std::lround(seconds / sim.dt()));
-  for (int t = 0; t < ticks; ++t) sim.Step();
-}
+using testing::RunFor;
 
 TEST(ManipulatorOnDynamics3d, ElevationFollowsTheCommandAtItsSpeed) {
   auto sim = Load("");
