@@ -18,6 +18,7 @@
 
 #include "core/loop_functions.h"
 #include "core/simulation.h"
+#include "loop_functions/common/measured_entity.h"
 
 namespace colony {
 namespace {
@@ -34,24 +35,8 @@ class ConstructionMetrics : public LoopFunctions {
     }
     tolerance_ = params.GetDouble("tolerance", 0.015, 1e-6, 1.0);
     stop_ = params.GetBool("stop", true);
-    if (params.Has("robot")) {
-      const std::string id = params.GetString("robot");
-      robot_ = space.Find(id);
-      if (!robot_.valid())
-        throw ParamError("robot", id, "parameter 'robot': no entity '" + id + "' in the arena");
-    } else {
-      for (uint32_t s = 0; s < space.slots(); ++s) {
-        if (!space.alive(s) || !(space.flags(s) & kRobot)) continue;
-        if (robot_.valid()) {
-          throw ParamError(
-              "robot", "",
-              "parameter 'robot': the arena has several robots; say which one is measured");
-        }
-        robot_ = space.HandleOf(s);
-      }
-      if (!robot_.valid())
-        throw ParamError("robot", "", "parameter 'robot': the arena has no robot");
-    }
+    robot_ = FindMeasured(space, params, "robot", "robot",
+                          [&](uint32_t s) { return (space.flags(s) & kRobot) != 0; });
     cube_type_ = space.TypeId("cube");
     if (space.OfType(cube_type_).empty()) {
       throw ParamError("task", task_, "parameter 'task': the arena has no <cube> to build with");

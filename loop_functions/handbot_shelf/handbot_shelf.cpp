@@ -19,6 +19,7 @@
 #include "actuators/rope_launcher/rope_state.h"
 #include "core/loop_functions.h"
 #include "core/simulation.h"
+#include "loop_functions/common/measured_entity.h"
 
 namespace colony {
 namespace {
@@ -28,24 +29,8 @@ class HandbotShelf : public LoopFunctions {
   void Init(const Params& params) override {
     Space& space = sim().space();
     stop_ = params.GetBool("stop", true);
-    if (params.Has("robot")) {
-      const std::string id = params.GetString("robot");
-      robot_ = space.Find(id);
-      if (!robot_.valid())
-        throw ParamError("robot", id, "parameter 'robot': no entity '" + id + "' in the arena");
-    } else {
-      for (uint32_t s = 0; s < space.slots(); ++s) {
-        if (!space.alive(s) || !space.Get<RopeState>(s)) continue;
-        if (robot_.valid()) {
-          throw ParamError(
-              "robot", "",
-              "parameter 'robot': the arena has several hand-bots; say which one is measured");
-        }
-        robot_ = space.HandleOf(s);
-      }
-      if (!robot_.valid())
-        throw ParamError("robot", "", "parameter 'robot': the arena has no hand-bot");
-    }
+    robot_ = FindMeasured(space, params, "robot", "hand-bot",
+                          [&](uint32_t s) { return space.Get<RopeState>(s) != nullptr; });
     if (!space.Get<RopeState>(robot_.index) || !space.Get<HandbotArmsState>(robot_.index)) {
       throw ParamError("robot", space.id(robot_.index),
                        "parameter 'robot': '" + space.id(robot_.index) + "' is not a hand-bot");
