@@ -12,14 +12,14 @@ import os
 import statistics
 import subprocess
 import sys
+
+import docblock
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BUILD = sys.argv[1] if len(sys.argv) > 1 else "build"
 COLONY = os.path.join(ROOT, BUILD, "bin", "colony")
 DOC = os.path.join(ROOT, "docs", "handbot.md")
-BEGIN = "<!-- handbot_shelf results: begin -->"
-END = "<!-- handbot_shelf results: end -->"
 SEEDS = range(1, 11)
 
 
@@ -37,7 +37,7 @@ def main():
         for seed in SEEDS:
             r = run(seed, os.path.join(tmp, str(seed)))
             rows.append((seed, r))
-    lines = [BEGIN, "",
+    lines = ["",
              "| seed | success | time (s) | climbed (m) | grips on the board | book brought down | book still in a gripper |",
              "|---|---|---|---|---|---|---|"]
     times = []
@@ -57,15 +57,8 @@ def main():
     else:
         lines.append("No seed succeeds.")
     lines += ["", "Written by `tools/handbot_shelf_results.py` from runs of this tree; rerun it when the "
-              "hand-bot, its devices or the controller change.", "", END]
-    with open(DOC) as f:
-        text = f.read()
-    if BEGIN not in text or END not in text:
-        sys.exit("docs/handbot.md has no %s ... %s block" % (BEGIN, END))
-    head, rest = text.split(BEGIN, 1)
-    _, tail = rest.split(END, 1)
-    with open(DOC, "w") as f:
-        f.write(head + "\n".join(lines) + tail)
+              "hand-bot, its devices or the controller change.", ""]
+    docblock.replace_block(DOC, "handbot_shelf results", lines)
     print("docs/handbot.md: results of %d seeds written" % len(rows))
 
 

@@ -16,6 +16,8 @@ import os
 import statistics
 import sys
 
+import docblock
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -24,8 +26,6 @@ import matplotlib.pyplot as plt  # noqa: E402
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DOC = os.path.join(ROOT, "docs", "pushpull.md")
 PNG = os.path.join(ROOT, "docs", "pushpull_fig6_6.png")
-BEGIN = "<!-- pushpull results: begin -->"
-END = "<!-- pushpull results: end -->"
 THRESHOLD = 50000  # ticks: the seed's failure threshold
 COUNT = "arena.distribute.entity.quantity"
 
@@ -81,7 +81,7 @@ def main():
     fig.suptitle("Push-Pull in Colony: 2 hand-bots, 1-10 foot-bots, failure at %d ticks" % THRESHOLD)
     fig.tight_layout()
     fig.savefig(PNG, dpi=80)
-    lines = [BEGIN, "",
+    lines = ["",
              "| foot-bots | per m^2 of free floor | runs | success | mean ticks (successes) "
              "| median ticks | connections per run |",
              "|---|---|---|---|---|---|---|"] + table + [
@@ -91,15 +91,8 @@ def main():
         "",
         "Written by `tools/pushpull_figures.py` from a sweep of "
         "`experiments/sweeps/pushpull-footbots.xml`; `docs/pushpull_fig6_6.png` is its figure.",
-        "", END]
-    with open(DOC) as f:
-        text = f.read()
-    if BEGIN not in text or END not in text:
-        sys.exit("docs/pushpull.md has no %s ... %s block" % (BEGIN, END))
-    head, rest = text.split(BEGIN, 1)
-    _, tail = rest.split(END, 1)
-    with open(DOC, "w") as f:
-        f.write(head + "\n".join(lines) + tail)
+        ""]
+    docblock.replace_block(DOC, "pushpull results", lines)
     print("wrote %s and the table in %s from %d runs" % (PNG, DOC, len(rows)))
 
 

@@ -96,12 +96,7 @@ class PushPullFootbot : public Controller {
     gripper_ = &GetActuator<GripperActuator>("gripper");
     leds_ = &GetActuator<Leds>("leds");
     rab_out_ = &GetActuator<RangeAndBearingActuator>("range_and_bearing");
-    if (rab_out_->size() < static_cast<size_t>(kPayloadSize)) {
-      throw std::runtime_error("the range_and_bearing actuator's payload holds " +
-                               std::to_string(rab_out_->size()) +
-                               " byte(s); pushpull_footbot sends " + std::to_string(kPayloadSize) +
-                               " (give the actuator data_size=\"4\" or more)");
-    }
+    CheckPayload(*rab_out_, "pushpull_footbot");
     token_ = static_cast<uint16_t>(1 + rng().UniformInt(65535));
   }
 

@@ -53,8 +53,6 @@ constexpr size_t kSlotLed = 6;  // the back of the ring (LEDs counter-clockwise 
 
 class PushPullHandbot : public Controller {
  public:
-  enum class Failure { kNone, kTooHeavy, kNoRope, kTiltForward, kTiltBackward };
-
   void Init(const Params& params) override {
     try_probability_ = params.GetDouble("try_probability", 0.02, 0, 10);
     lift_speed_ = params.GetDouble("lift_speed", 0.02, 0.001, 1);
@@ -88,12 +86,7 @@ class PushPullHandbot : public Controller {
     ir_ = &GetSensor<HandbotGripperProximitySensor>("handbot_gripper_proximity");
     grippers_sensor_ = &GetSensor<HandbotGrippersSensor>("handbot_grippers");
     rab_in_ = &GetSensor<RangeAndBearingSensor>("range_and_bearing");
-    if (rab_out_->size() < static_cast<size_t>(kPayloadSize)) {
-      throw std::runtime_error("the range_and_bearing actuator's payload holds " +
-                               std::to_string(rab_out_->size()) +
-                               " byte(s); pushpull_handbot sends " + std::to_string(kPayloadSize) +
-                               " (give the actuator data_size=\"4\" or more)");
-    }
+    CheckPayload(*rab_out_, "pushpull_handbot");
     since_try_ = retry_time_;
     in_state_ = 1;  // standing since before the run
   }
@@ -130,7 +123,6 @@ class PushPullHandbot : public Controller {
           try_lift = true;
         }
         if (try_lift && in_state_ >= 1 && InReach() && traction_->attached()) {
-          failure_ = Failure::kNone;
           Enter(State::kGrasp);
         } else if (in_state_ >= 2 && traction_->attached() &&
                    std::abs(heading_) > align_tolerance_) {
@@ -173,8 +165,7 @@ class PushPullHandbot : public Controller {
         leds_->SetAllColors(kOff);
         rab_out_->SetByte(0, kWait);
         rope_->SetClimbSpeed(lift_speed_);
-        failure_ = Check();
-        if (failure_ != Failure::kNone) {
+        if (GiveUp()) {
           Enter(State::kDown);
         } else if (start_length_ - traction_->length() >= lift_height_) {
           rope_->SetClimbSpeed(0);
@@ -201,16 +192,15 @@ class PushPullHandbot : public Controller {
  private:
   enum class State { kStand, kAlign, kGrasp, kLift, kDown, kLifted };
 
-  // Tilt from the accelerometer (at rest it reads +g along the body's z):
-  // tipped forward it reads a negative x.
-  Failure Check() const {
+  // Whether a lift must stop: the rope pulls too much (the object is too
+  // heavy) or too little (no rope), or the hull tilts too far (from the
+  // accelerometer, which at rest reads +g along the body's z).
+  bool GiveUp() const {
     const double t = traction_->traction();
-    if (t > max_traction_) return Failure::kTooHeavy;
-    if (in_state_ > 2 && t < min_traction_) return Failure::kNoRope;
+    if (t > max_traction_) return true;                   // too heavy
+    if (in_state_ > 2 && t < min_traction_) return true;  // no rope
     const auto& a = imu_->acceleration();
-    const double tilt = std::atan2(std::hypot(a[0], a[1]), a[2]);
-    if (tilt > max_tilt_) return a[0] < 0 ? Failure::kTiltForward : Failure::kTiltBackward;
-    return Failure::kNone;
+    return std::atan2(std::hypot(a[0], a[1]), a[2]) > max_tilt_;  // tipped
   }
 
   // Not seeing the object ahead, a push slot at its back (to be pushed
@@ -249,7 +239,6 @@ class PushPullHandbot : public Controller {
   double align_tolerance_ = 0.15, heading_ = 0, reach_ = 0.2;
   double in_state_ = 0, since_try_ = 0, start_length_ = 0;
   State state_ = State::kStand;
-  Failure failure_ = Failure::kNone;
   RopeLauncherActuator* rope_ = nullptr;
   HandbotArmsActuator* arms_ = nullptr;
   HandbotGrippersActuator* grippers_ = nullptr;

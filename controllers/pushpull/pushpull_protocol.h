@@ -4,7 +4,10 @@
 #pragma once
 
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 
+#include "actuators/range_and_bearing/range_and_bearing.h"
 #include "core/color.h"
 
 namespace colony::pushpull {
@@ -14,6 +17,14 @@ namespace colony::pushpull {
 //   bytes 2-3: the sender's token (a foot-bot's random priority while it
 //   connects, big-endian).
 inline constexpr int kPayloadSize = 4;
+// Refuses an emitter whose payload cannot hold a message.
+inline void CheckPayload(const RangeAndBearingActuator& emitter, const std::string& controller) {
+  if (emitter.size() >= static_cast<size_t>(kPayloadSize)) return;
+  throw std::runtime_error("the range_and_bearing actuator's payload holds " +
+                           std::to_string(emitter.size()) + " byte(s); " + controller + " sends " +
+                           std::to_string(kPayloadSize) +
+                           " (give the actuator data_size=\"4\" or more)");
+}
 enum Message : uint8_t {
   kNothing = 0,
   kPause = 1,    // a foot-bot connecting to a hand-bot: active foot-bots nearby hold still
