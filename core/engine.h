@@ -21,6 +21,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/config.h"
 #include "core/region.h"
@@ -77,6 +78,14 @@ class PhysicsEngine : public NamedSimulationBound {
   // The region it simulates; none: the whole arena.
   const std::optional<Region>& region() const { return region_; }
   void SetRegion(Region region) { region_ = std::move(region); }
+  // The entity types it takes (entities="eyebot"): every movable entity of
+  // these types, inside its region, is its own and no other engine's, and
+  // it takes no movable entity of another type (fixed ones, walls, it shares
+  // as every engine does). Empty: it takes the movables its region holds
+  // whose types no engine takes.
+  const std::vector<std::string>& entity_types() const { return entity_types_; }
+  bool takes_types() const { return !entity_types_.empty(); }
+  void SetEntityTypes(std::vector<std::string> types) { entity_types_ = std::move(types); }
   bool Holds(const Vec3& p) const { return !region_ || region_->Contains(p); }
   // Whether entity slot `s` is one of this engine's (set by the host).
   bool Owns(uint32_t s) const { return s < owned_.size() && owned_[s]; }
@@ -87,6 +96,7 @@ class PhysicsEngine : public NamedSimulationBound {
 
  private:
   std::optional<Region> region_;
+  std::vector<std::string> entity_types_;
   std::vector<uint8_t> owned_;  // per space slot
 };
 

@@ -90,6 +90,10 @@ struct ControllerSpec {
 struct EngineSpec {
   PluginSpec plugin;             // the engine: its label and id
   std::optional<Region> region;  // <boundaries>; none: the whole arena
+  // entities="...": the entity types (labels, aliases resolved) this engine
+  // takes wherever they are, and no other engine does; empty: it takes
+  // what its region holds.
+  std::vector<std::string> entity_types;
 };
 
 // How a <distribute> block draws one triple per entity: a position (m), or

@@ -209,8 +209,10 @@ void Simulation::Migrate() {
     PhysicsEngine& from = *engines_[engine_of_[s]];
     if (from.Holds(p)) continue;
     const auto& models = models_[space_.type(s)];
+    // Engines that take entity types take no migrants: their own never
+    // leave them, and they take no other type's movables.
     for (size_t e = 0; e < engines_.size(); ++e) {
-      if (!models[e] || !engines_[e]->Holds(p)) continue;
+      if (!models[e] || engines_[e]->takes_types() || !engines_[e]->Holds(p)) continue;
       CheckDevicesCanMigrate(s, from, *engines_[e]);
       const EntityHandle h = space_.HandleOf(s);
       from.RemoveEntity(h);

@@ -212,7 +212,10 @@ class Simulation {
   // The physics model of each engine for entity type `label` (nullptr: none).
   std::vector<PhysicsModel*>& ModelsFor(uint16_t type, const std::string& label);
   // The engines `desc` goes into (one if movable); none: records why.
-  std::vector<int> EnginesFor(const EntityDesc& desc, const std::vector<PhysicsModel*>& models);
+  std::vector<int> EnginesFor(const EntityDesc& desc, uint16_t type,
+                              const std::vector<PhysicsModel*>& models);
+  // Engines with a model registered for entity type `type` ("pointmass3d").
+  static std::vector<std::string> EnginesAbleToSimulate(const std::string& type);
   // Takes out again an entity whose robot failed to start while running.
   void Withdraw(const std::string& id);
   // Records a problem with `desc` (its line and element, when from the file).
@@ -266,6 +269,8 @@ class Simulation {
   std::vector<std::unique_ptr<PhysicsEngine>> engines_;
   // Per entity type: the model of each engine (nullptr: unsupported).
   std::vector<std::vector<PhysicsModel*>> models_;
+  // Per entity type: the engine that takes it (entities="..."), or -1.
+  std::vector<int> taken_by_;
   std::vector<std::unique_ptr<PhysicsModel>> model_storage_;
   std::vector<int16_t> engine_of_;  // per space slot
   std::vector<int> line_of_;        // per space slot: the entity's line in the file (0: none)

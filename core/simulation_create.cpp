@@ -15,6 +15,11 @@ namespace colony {
 
 namespace {
 
+// "a" or "an" before an entity type's name, as spoken ("an eyebot").
+std::string Article(const std::string& word) {
+  return !word.empty() && std::string("aeiou").find(word[0]) != std::string::npos ? "an" : "a";
+}
+
 // The registered plugin a spec names. A spec the reader made names only
 // registered ones; a program may have changed it.
 template <class Base>
@@ -133,21 +138,52 @@ void Simulation::CreateEngines(const std::vector<EngineSpec>& engines) {
     engine->Bind(this, id, entry->info.label);
     engine->Configure(node);
     if (spec.region) engine->SetRegion(*spec.region);
-    // 3D engines (gravity, ditches, stacking) and 2D ones (bodies on the floor) do not mix.
-    if (!engines_.empty() && engine->Is3D() != engines_.front()->Is3D()) {
-      const PhysicsEngine& first = *engines_.front();
-      const auto dims = [](const PhysicsEngine& e) {
-        return e.Is3D() ? std::string("3D") : std::string("2D");
-      };
-      node.ElementError(engine->label() + " '" + id + "' is a " + dims(*engine) +
-                        " engine and cannot share an experiment with " + dims(first) +
-                        " engines (" + first.label() + " '" + first.id() + "', line " +
-                        std::to_string(lines.front()) + "); use only 3D engines or only 2D ones");
+    engine->SetEntityTypes(spec.entity_types);
+    // entities="...": each type simulated by this engine, and taken by no other.
+    for (const std::string& type : spec.entity_types) {
+      if (!Registry<PhysicsModel>::Get().Find(engine->label() + ":" + type)) {
+        const std::vector<std::string> able = EnginesAbleToSimulate(type);
+        node.Error("entities", Join(spec.entity_types),
+                   engine->label() + " '" + id + "' cannot simulate " + Article(type) + " '" +
+                       type + "' (no model " + engine->label() + ":" + type + " in this build)" +
+                       (able.empty() ? "" : "; engines that can: " + Join(able)));
+      }
+      for (size_t k = 0; k < engines_.size(); ++k) {
+        const auto& taken = engines_[k]->entity_types();
+        if (std::find(taken.begin(), taken.end(), type) == taken.end()) continue;
+        node.Error("entities", Join(spec.entity_types),
+                   "entity type '" + type + "' is already taken by " +
+                       EngineName(engines_[k].get()) + " (line " + std::to_string(lines[k]) +
+                       "); an entity type may be taken by one engine only");
+      }
     }
-    // Two engines of one kind must not simulate the same place.
+    // 3D engines (gravity, ditches, stacking) and 2D ones (bodies on the
+    // floor) do not share movable entities: among engines that take what
+    // their regions hold, all are 2D or all 3D. An engine that takes entity
+    // types (eye-bots in pointmass3d) may be of either kind.
+    if (!engine->takes_types()) {
+      for (size_t k = 0; k < engines_.size(); ++k) {
+        const PhysicsEngine& first = *engines_[k];
+        if (first.takes_types()) continue;
+        if (engine->Is3D() == first.Is3D()) break;
+        const auto dims = [](const PhysicsEngine& e) {
+          return e.Is3D() ? std::string("3D") : std::string("2D");
+        };
+        node.ElementError(engine->label() + " '" + id + "' is a " + dims(*engine) +
+                          " engine and cannot share an experiment's regions with " + dims(first) +
+                          " engines (" + first.label() + " '" + first.id() + "', line " +
+                          std::to_string(lines[k]) +
+                          "); use only 3D engines or only 2D ones, or let one take entity types "
+                          "wherever they are (e.g. entities=\"eyebot\")");
+        break;
+      }
+    }
+    // Two engines of one kind that take what their regions hold must not
+    // simulate the same place.
     for (size_t k = 0; k < engines_.size(); ++k) {
       const PhysicsEngine& other = *engines_[k];
-      if (other.label() != engine->label()) continue;
+      if (other.label() != engine->label() || other.takes_types() || engine->takes_types())
+        continue;
       const bool overlap =
           !engine->region() || !other.region() || engine->region()->Overlaps(*other.region());
       if (overlap) {
@@ -346,17 +382,25 @@ EntityHandle Simulation::Add(const EntityDesc& desc, PlacementCheck check, Place
   if (init.geometry.shape != ShapeKind::kNone && !simulated) {
     std::vector<std::string> engines;
     for (const auto& e : engines_) engines.push_back(e->label() + " '" + e->id() + "'");
-    EntityError(desc, "", "",
-                engines.empty()
-                    ? "entity '" + id +
-                          "' needs a physics engine, but <physics_engines> declares none; add e.g. "
-                          "<kinematics2d id=\"k2d\"/>"
-                    : "no physics engine of this experiment can simulate a '" + entry->info.label +
-                          "' (engines: " + Join(engines) + "; no model registered for " +
-                          engines_.front()->label() + ":" + entry->info.label + ")");
+    const std::string& label = entry->info.label;
+    const std::vector<std::string> able = EnginesAbleToSimulate(label);
+    const int taker = taken_by_[type_id];
+    EntityError(
+        desc, "", "",
+        engines.empty()
+            ? "entity '" + id +
+                  "' needs a physics engine, but <physics_engines> declares none; add e.g. "
+                  "<kinematics2d id=\"k2d\"/>"
+            : "no physics engine of this experiment can simulate " + Article(label) + " '" + label +
+                  "' (engines: " + Join(engines) + "; no model registered for " +
+                  (taker >= 0 ? engines_[taker]->label() : engines_.front()->label()) + ":" +
+                  label + ")" +
+                  (able.empty() ? "; no engine in this build can"
+                                : "; engines that can: " + Join(able) + ", e.g. <" + able.front() +
+                                      " id=\"" + able.front() + "\" entities=\"" + label + "\"/>"));
     return {};
   }
-  const std::vector<int> engines = EnginesFor(desc, models);
+  const std::vector<int> engines = EnginesFor(desc, type_id, models);
   if (init.geometry.shape != ShapeKind::kNone && engines.empty()) return {};
   if (placed && (init.flags & kSolid))
     placed->Insert(init.pose, init.geometry, id, desc.line, init.flags & kMovable);
@@ -386,12 +430,31 @@ std::string Simulation::PlaceProblemNow(const Space::EntityInit& init) {
   return "";
 }
 
+std::vector<std::string> Simulation::EnginesAbleToSimulate(const std::string& type) {
+  std::vector<std::string> able;
+  const std::string suffix = ":" + type;
+  for (const PluginInfo* info : AllPlugins()) {
+    if (info->kind == PluginKind::kPhysicsModel && info->label.ends_with(suffix))
+      able.push_back(info->label.substr(0, info->label.size() - suffix.size()));
+  }
+  return able;
+}
+
 std::vector<PhysicsModel*>& Simulation::ModelsFor(uint16_t type, const std::string& label) {
   if (models_.size() <= type) models_.resize(type + 1);
+  if (taken_by_.size() <= type) taken_by_.resize(type + 1, -1);
   auto& models = models_[type];
   if (models.size() != engines_.size()) {
     models.assign(engines_.size(), nullptr);
+    // A type an engine takes (entities="...") is that engine's alone.
+    taken_by_[type] = -1;
     for (size_t e = 0; e < engines_.size(); ++e) {
+      const auto& taken = engines_[e]->entity_types();
+      if (std::find(taken.begin(), taken.end(), label) != taken.end())
+        taken_by_[type] = static_cast<int>(e);
+    }
+    for (size_t e = 0; e < engines_.size(); ++e) {
+      if (taken_by_[type] >= 0 && taken_by_[type] != static_cast<int>(e)) continue;
       if (const auto* m = Registry<PhysicsModel>::Get().Find(engines_[e]->label() + ":" + label)) {
         model_storage_.push_back(m->create());
         models[e] = model_storage_.back().get();
@@ -401,7 +464,7 @@ std::vector<PhysicsModel*>& Simulation::ModelsFor(uint16_t type, const std::stri
   return models;
 }
 
-std::vector<int> Simulation::EnginesFor(const EntityDesc& desc,
+std::vector<int> Simulation::EnginesFor(const EntityDesc& desc, uint16_t type,
                                         const std::vector<PhysicsModel*>& models) {
   std::vector<int> chosen;
   const auto& init = desc.init;
@@ -410,10 +473,13 @@ std::vector<int> Simulation::EnginesFor(const EntityDesc& desc,
   const Vec2 half = FootprintHalfExtents(init.geometry, init.pose.orientation);
   const bool movable = init.flags & kMovable;
   // A movable entity goes to the first engine (in file order) whose region
-  // holds it; a fixed one to every engine whose region it touches.
+  // holds it, among those that take its type or, if none does, those that
+  // take no types; a fixed one to every engine whose region it touches.
+  const bool taken = taken_by_[type] >= 0;
   for (size_t e = 0; e < engines_.size(); ++e) {
     if (!models[e]) continue;
     const PhysicsEngine& engine = *engines_[e];
+    if (movable && engine.takes_types() && !taken) continue;
     if (movable && engine.Holds(p)) {
       chosen.push_back(static_cast<int>(e));
       break;

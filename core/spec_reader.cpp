@@ -14,6 +14,8 @@
 #include "core/bounds.h"
 #include "core/device.h"
 #include "core/engine.h"
+#include "core/entity_type.h"
+#include "core/error.h"
 #include "core/experiment_spec.h"
 #include "core/image_renderer.h"
 #include "core/loop_functions.h"
@@ -97,6 +99,7 @@ class SpecReader {
                    std::vector<PluginSpec>& devices);
   void ReadEngines(const ConfigNode& root);
   std::optional<Region> ReadBoundaries(const ConfigNode& engine_node);
+  std::vector<std::string> ReadEngineEntityTypes(const ConfigNode& engine_node);
   void ReadRenderers(const ConfigNode& root);
   void ReadLoopFunctions(const ConfigNode& root);
   void ReadArena(const ConfigNode& root);
@@ -286,6 +289,7 @@ void SpecReader::ReadEngines(const ConfigNode& root) {
     if (!entry) continue;
     auto names = entry->info.AttributeNames();
     names.push_back("id");
+    names.push_back("entities");
     node.CheckAttributes(names);
     const std::string id = node.RequireString("id");
     if (ids.count(id))
@@ -297,8 +301,47 @@ void SpecReader::ReadEngines(const ConfigNode& root) {
     EngineSpec engine;
     engine.plugin = PluginSpec{node.name(), "default", id, node};
     engine.region = ReadBoundaries(node);
+    engine.entity_types = ReadEngineEntityTypes(node);
     spec_.engines.push_back(std::move(engine));
   }
+}
+
+// entities="eyebot, ...": entity types by label or alias, separated by
+// commas or spaces; returned as labels, each once.
+std::vector<std::string> SpecReader::ReadEngineEntityTypes(const ConfigNode& engine_node) {
+  std::vector<std::string> types;
+  if (!engine_node.Has("entities")) return types;
+  const std::string text = engine_node.GetString("entities", "");
+  std::string word;
+  auto take = [&]() {
+    if (word.empty()) return;
+    const auto* entry = Registry<EntityType>::Get().Find(word);
+    if (!entry) {
+      const auto labels = Registry<EntityType>::Get().Labels();
+      const std::string guess = DidYouMean(word, labels);
+      engine_node.Error("entities", text,
+                        "unknown entity type '" + word + "'" +
+                            (guess.empty() ? "" : " (did you mean '" + guess + "'?)") +
+                            "; accepted: entity types separated by commas (" + Join(labels) + ")");
+    } else if (std::find(types.begin(), types.end(), entry->info.label) == types.end()) {
+      types.push_back(entry->info.label);
+    }
+    word.clear();
+  };
+  for (char c : text) {
+    if (c == ',' || c == ' ' || c == '\t') {
+      take();
+    } else {
+      word += c;
+    }
+  }
+  take();
+  if (types.empty()) {
+    engine_node.Error("entities", text,
+                      "names no entity type; accepted: entity types separated by commas, e.g. "
+                      "\"eyebot\"");
+  }
+  return types;
 }
 
 std::optional<Region> SpecReader::ReadBoundaries(const ConfigNode& engine_node) {

@@ -5,6 +5,7 @@
 
 #include "core/entity_type.h"
 #include "core/simulation.h"
+#include "entities/eyebot/eyebot.h"
 
 namespace colony {
 namespace {
@@ -14,6 +15,11 @@ namespace {
 constexpr uint32_t kBlock = 512;
 
 bool Lit(const Color& c) { return (c.r | c.g | c.b) != 0; }
+
+// A laser spot is moved back this far along the beam, off the surface it lit,
+// so that the surface does not hide it from cameras (occlusion checks).
+constexpr double kSpotLift = 0.002;  // m
+const Color kLaserRed{255, 0, 0, 255};
 
 }  // namespace
 
@@ -36,6 +42,34 @@ const LedMedium::TypeLeds& LedMedium::LedsOfType(uint32_t slot) {
     }
   }
   return t;
+}
+
+void LedMedium::FindLaserSpots() {
+  spots_.clear();
+  // Only entities with a pan-tilt unit carry a laser: none, nothing to do.
+  Space& space = sim().space();
+  const ComponentPool<PanTiltState>& units = space.Pool<PanTiltState>();
+  if (units.size() == 0) return;
+  spot_of_unit_.resize(units.size());
+  sim().pool().ParallelFor(units.size(), 64, [&](size_t b, size_t e) {
+    for (size_t k = b; k < e; ++k) {
+      const uint32_t item = static_cast<uint32_t>(k), owner = units.owner(item);
+      Led& out = spot_of_unit_[k];
+      out.owner = ComponentPoolBase::kNoOwner;
+      if (owner == ComponentPoolBase::kNoOwner || !space.alive(owner)) continue;
+      if (!units[item].laser_on) continue;
+      const std::optional<LaserSpot> spot = CastLaser(space, owner);
+      if (!spot) continue;
+      const Vec3 beam = PanTiltFrame(space.pose(owner), units[item]).orientation * Vec3::UnitX();
+      const Vec3 p = spot->point - std::min(kSpotLift, spot->distance) * beam;
+      out = {p.x(), p.y(), p.z(), kLaserRed, owner};
+    }
+  });
+  for (const Led& s : spot_of_unit_) {
+    if (s.owner != ComponentPoolBase::kNoOwner) spots_.push_back(s);
+  }
+  std::sort(spots_.begin(), spots_.end(),
+            [](const Led& a, const Led& b) { return a.owner < b.owner; });
 }
 
 void LedMedium::Update() {
@@ -79,7 +113,9 @@ void LedMedium::Update() {
     }
   });
   for (size_t b = 1; b <= blocks; ++b) block_counts_[b] += block_counts_[b - 1];
-  const size_t count = block_counts_[blocks];
+  FindLaserSpots();
+  const size_t lit = block_counts_[blocks];
+  const size_t count = lit + spots_.size();
   grid_.Configure(space, cell_size_ > 0 ? cell_size_ : (reach_ > 0 ? reach_ : 1.0), count);
 
   // Pass 2: the points in the world frame, and their cells.
@@ -115,14 +151,21 @@ void LedMedium::Update() {
     }
   });
 
-  // Counting sort by cell, stable (slot order, then LED order, within a cell).
+  // The laser spots after every entity's own points.
+  for (size_t k = 0; k < spots_.size(); ++k) {
+    unsorted_[lit + k] = spots_[k];
+    cell_of_[lit + k] = grid_.CellOf(spots_[k].x, spots_[k].y);
+  }
+
+  // Counting sort by cell, stable (slot order, then LED order, then laser
+  // spots by owner, within a cell).
   grid_.Sort(unsorted_, cell_of_, count, leds_);
   if (occlusions_ && count > 0) occluders_.Build(space, grid_.cell_size());
 }
 
 COLONY_REGISTER_MEDIUM(LedMedium, "led",
-                       "every lit LED (robots' LED rings and beacons, lights) and every landmark, "
-                       "as coloured points that "
+                       "every lit LED (robots' LED rings and beacons, lights), every landmark "
+                       "and every laser spot (eye-bots' laser pointers), as coloured points that "
                        "cameras see",
                        (std::vector<AttributeDoc>{
                            {"cell_size", "a number > 0 (m)", "the largest camera range",

@@ -1,5 +1,6 @@
 // The LED medium: every lit LED in the arena (robots' LED rings and beacons,
-// lights) and every landmark, as coloured points in the world frame, in a
+// lights), every landmark and every laser spot (an eye-bot's laser pointer
+// where it meets a surface), as coloured points in the world frame, in a
 // uniform grid rebuilt once per tick after physics (tick step 3). Cameras
 // (the omnidirectional camera) read the cells around them, so a query costs
 // what is near. See media/led/README.md.
@@ -29,13 +30,22 @@ class LedMedium : public Medium {
   void RequestOcclusions() { occlusions_ = true; }
   const OccluderGrid& occluders() const { return occluders_; }
 
-  // One coloured point: an LED, or a landmark's centre. 32 bytes.
+  // One coloured point: an LED, a landmark's centre, or a laser spot. 32 bytes.
   struct Led {
     double x, y, z;
     Color color;
-    uint32_t owner;  // slot of the entity carrying it
+    uint32_t owner;  // slot of the entity carrying it (of a laser spot: the laser's)
   };
   const std::vector<Led>& leds() const { return leds_; }
+  // The laser spots among leds() (red, owned by the robot whose laser it is),
+  // by owner's slot; and the spot of `owner`'s laser, or nullptr. A camera
+  // that skips its robot's own points (its LEDs) takes its own spot here.
+  const std::vector<Led>& laser_spots() const { return spots_; }
+  const Led* LaserSpotOf(uint32_t owner) const {
+    const auto it = std::lower_bound(spots_.begin(), spots_.end(), owner,
+                                     [](const Led& s, uint32_t o) { return s.owner < o; });
+    return it != spots_.end() && it->owner == owner ? &*it : nullptr;
+  }
 
   // Calls visit(begin, end) for runs [begin, end) of indices into leds()
   // that together hold every point within `reach` horizontally of (x, y)
@@ -55,6 +65,8 @@ class LedMedium : public Medium {
     std::vector<Vec3> ring;  // the ring's LEDs; LEDs beyond these are beacons on top of the axis
   };
   const TypeLeds& LedsOfType(uint32_t slot);
+  // Fills spots_ from the pan-tilt units (entities/eyebot/eyebot.h).
+  void FindLaserSpots();
 
   double cell_size_ = 0;  // 0: from reach_
   double reach_ = 0;
@@ -66,7 +78,9 @@ class LedMedium : public Medium {
   std::vector<uint32_t> block_counts_;  // lit points per block of slots
   std::vector<Led> unsorted_;
   std::vector<uint32_t> cell_of_;
-  std::vector<Led> leds_;  // sorted by cell
+  std::vector<Led> leds_;          // sorted by cell
+  std::vector<Led> spot_of_unit_;  // by item of the space's pan-tilt pool; owner kNoOwner: none
+  std::vector<Led> spots_;         // laser spots, by owner
   CellGrid grid_;
 };
 

@@ -46,7 +46,7 @@ class OsmesaImageRenderer : public ImageRenderer {
 
   // The entities that may show in `view`: solid ones within its far plane
   // (from the spatial index) and the others (lights), unless wholly outside
-  // the view; never `hidden`.
+  // the view; never `hidden`; and the laser spots.
   void BuildScene(const View& view, EntityHandle hidden) {
     const Space& space = sim_.space();
     const double range = view.far_clip;
@@ -66,6 +66,8 @@ class OsmesaImageRenderer : public ImageRenderer {
       const double radius = std::hypot(g.BoundingRadius(), g.height() / 2) + kLooseness;
       if (frustum.MayShow(center, radius)) builder.AddEntity(i, batch_);
     }
+    // Laser spots, wherever their robots are (no beams: invisible in clean air).
+    AddLaserSpots(sim_, batch_, false);
   }
 
   const Simulation& sim_;

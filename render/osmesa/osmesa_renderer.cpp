@@ -339,6 +339,7 @@ class OsmesaRenderer : public Renderer {
       builder.AddEntity(i, batch_, DetailOf(i));
       if (proximity_rays_ && (space.flags(i) & kRobot)) AddProximityRays(sim(), i, batch_);
     }
+    AddLaserSpots(sim(), batch_, true);
   }
 
   // Coarse when the entity is small in every camera's image.

@@ -17,6 +17,8 @@
 #include "core/image_renderer.h"
 #include "core/output.h"
 #include "core/registry.h"
+#include "entities/eyebot/eyebot.h"
+#include "render/osmesa/view.h"
 #include "sensors/camera/camera.h"
 #include "tests/test_util.h"
 
@@ -525,6 +527,110 @@ TEST(ImageRenderer, ACameraOnAGripperLooksWhereTheGripperPoints) {
 std::string Bad(const std::string& osmesa_attributes, const std::string& children) {
   return LoadError(Experiment(Robot("r", "0,0,0"), kRedRobots, "4,4,1",
                               Visualization(osmesa_attributes, children)));
+}
+
+// --- the eye-bot, its laser spot and a camera on its pan-tilt head
+
+bool HavePointmass3d() { return Registry<PhysicsEngine>::Get().Find("pointmass3d") != nullptr; }
+
+// An eye-bot "e" (configuration "c") hanging from a ceiling at 2.5 m above
+// the origin, its head at 2.26 m, facing +x; `arena` around it; the floor at 0.
+std::string EyebotWorld(const std::string& arena, const std::string& controllers,
+                        const std::string& extra = "") {
+  return "<colony><framework><experiment length=\"10\" ticks_per_second=\"10\"/></framework>"
+         "<controllers>" +
+         controllers +
+         "</controllers><arena size=\"8,8,3\" center=\"0,0,1.5\"><ceiling height=\"2.5\"/>"
+         "<eyebot id=\"e\" attached=\"true\"><body position=\"0,0,2.2\"/><controller "
+         "config=\"c\"/></eyebot>" +
+         arena +
+         "</arena><physics_engines><kinematics2d id=\"ground\"/><pointmass3d id=\"air\" "
+         "entities=\"eyebot\"/></physics_engines>" +
+         extra + "</colony>";
+}
+
+TEST_F(Rendering, TheLaserSpotIsRedWhereTheBeamMeetsTheFloorOrABoxAndTheBeamLeadsToIt) {
+  if (!HavePointmass3d()) GTEST_SKIP() << "the eye-bot needs pointmass3d";
+  const Color floor{40, 90, 200, 255};
+  const double tilt = DegToRad(30), head = 2.26;
+  // From 1 m above the floor 1.3 m out on +x, looking straight down.
+  render::View top;
+  top.eye = Vec3(1.3, 0, 1);
+  top.target = Vec3(1.3, 0, 0);
+  top.up = Vec3(0, 1, 0);
+  top.width = top.height = 200;
+  const Vec3 beam(std::sin(tilt), 0, -std::cos(tilt));
+  for (const double box_top : {0.0, 0.3}) {
+    SCOPED_TRACE(box_top > 0 ? "on the box" : "on the floor");
+    fs::remove_all(dir_);
+    const std::string box =
+        box_top > 0 ? "<box id=\"b\" size=\"0.5,0.5,0.3\"><body position=\"1.3,0,0\"/></box>" : "";
+    auto sim = LoadXml(
+        EyebotWorld("<floor color=\"" + Hex(floor) + "\"/>" + box, "<led_holder id=\"c\"/>",
+                    Visualization("width=\"200\" height=\"200\" grid=\"0\"", TopCamera("1.3,0"))));
+    PanTiltState& unit = *sim->space().Get<PanTiltState>(sim->space().Find("e").index);
+    unit.tilt = unit.target_tilt = tilt;
+    unit.laser_on = true;
+    sim->renderers()[0]->set_output_dir(dir_.string());
+    sim->renderers()[0]->AfterTick();
+    const Png png = ReadPng(dir_ / "top_000000.png");
+    ASSERT_EQ(png.width, 200);
+    const Vec3 spot = Vec3(0, 0, head) + (head - box_top) / std::cos(tilt) * beam;
+    const Vec2 at = *top.ToPixel(spot);
+    ASSERT_TRUE(at.x() >= 0 && at.x() < 200 && at.y() >= 0 && at.y() < 190) << at.transpose();
+    const Color c = png.At(static_cast<int>(at.x()), static_cast<int>(at.y()));
+    EXPECT_GT(c.r, 200) << Hex(c) << " at " << at.transpose();
+    EXPECT_LT(c.g, 60) << Hex(c);
+    EXPECT_LT(c.b, 60) << Hex(c);
+    // 1.5 cm in radius (2.6 pixels from 1 m, or 1.9 from 0.7 m): 8 pixels
+    // beside it, the surface.
+    const Color beside = png.At(static_cast<int>(at.x()), static_cast<int>(at.y()) + 8);
+    EXPECT_LT(beside.r, 180) << Hex(beside);
+    // The beam, 0.2 m above the spot: a red line.
+    const Vec2 up = *top.ToPixel(spot - 0.2 / std::cos(tilt) * beam);
+    ASSERT_TRUE(up.x() >= 0 && up.x() < 200 && up.y() >= 1 && up.y() < 199) << up.transpose();
+    int red = 0;
+    for (int dy = -1; dy <= 1; ++dy) {
+      const Color b = png.At(static_cast<int>(up.x()), static_cast<int>(up.y()) + dy);
+      red += b.r > b.g + 60;
+    }
+    EXPECT_GE(red, 1) << "the beam passes " << up.transpose();
+    // Off: no spot.
+    unit.laser_on = false;
+    sim->renderers()[0]->AfterTick();
+    const Color off =
+        ReadPng(dir_ / "top_000001.png").At(static_cast<int>(at.x()), static_cast<int>(at.y()));
+    EXPECT_LT(off.r, 180) << Hex(off);
+  }
+}
+
+// A camera on the head (anchor "pan_tilt") sees what the head points at:
+// straight down a red box under the robot, straight ahead a green wall,
+// turned round nothing.
+TEST(ImageRenderer, ACameraOnTheEyebotsHeadLooksWhereTheHeadPoints) {
+  if (!HavePointmass3d()) GTEST_SKIP() << "the eye-bot needs pointmass3d";
+  unsetenv("DISPLAY");
+  auto sim = LoadXml(EyebotWorld(
+      "<box id=\"under\" size=\"0.6,0.6,0.2\" color=\"red\"><body position=\"0,0,0\"/></box>"
+      "<box id=\"ahead\" size=\"0.2,1.5,2.45\" color=\"green\"><body position=\"1.5,0,0\"/></box>",
+      "<led_holder id=\"c\"><sensors><camera anchor=\"pan_tilt\" position=\"0.03,0,0\" "
+      "width=\"32\" height=\"24\" fov=\"40\"/></sensors></led_holder>"));
+  const auto& camera = dynamic_cast<LedHolder&>(*sim->ControllerOf(sim->space().Find("e")))
+                           .GetSensor<CameraSensor>("camera");
+  PanTiltState& unit = *sim->space().Get<PanTiltState>(sim->space().Find("e").index);
+  sim->Step();
+  Color c = camera.At(16, 12);
+  EXPECT_GT(c.r, 120) << "straight down, the red box: " << Hex(c);
+  EXPECT_LT(c.g, 60) << Hex(c);
+  unit.tilt = M_PI / 2;
+  sim->Step();
+  c = camera.At(16, 12);
+  EXPECT_GT(c.g, 120) << "ahead, the green wall: " << Hex(c);
+  EXPECT_LT(c.r, 60) << Hex(c);
+  unit.pan = M_PI;
+  sim->Step();
+  c = camera.At(16, 12);
+  EXPECT_FALSE(c.g > 120 || c.r > 120) << "behind, nothing: " << Hex(c);
 }
 
 TEST(RenderingErrors, BadCamerasAreRejectedWithElementAndLine) {

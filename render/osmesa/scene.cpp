@@ -7,6 +7,7 @@
 #include "actuators/manipulator/manipulator_state.h"
 #include "actuators/rope_launcher/rope_state.h"
 #include "core/simulation.h"
+#include "entities/eyebot/eyebot.h"
 #include "entities/handbot/handbot.h"
 #include "entities/marxbot/marxbot.h"
 
@@ -21,6 +22,8 @@ using Vec2f = Eigen::Vector2f;
 const Vec3f kLight = Vec3f(-0.35f, -0.5f, 1.0f).normalized();
 constexpr float kAmbient = 0.45f, kDiffuse = 0.6f;
 constexpr float kLightBallRadius = 0.03f;  // m
+// A laser spot, drawn larger than a real one (a few mm) to show in frames.
+constexpr float kLaserSpotRadius = 0.015f;  // m
 
 Color Scaled(Color c, float k) {
   auto channel = [k](uint8_t v) { return static_cast<uint8_t>(std::min(255.0f, v * k + 0.5f)); };
@@ -144,6 +147,21 @@ class Painter {
       Quad(Vec3f(r_in * u.x(), r_in * u.y(), z1), Vec3f(r_out * u.x(), r_out * u.y(), z1),
            Vec3f(r_out * v.x(), r_out * v.y(), z1), Vec3f(r_in * v.x(), r_in * v.y(), z1),
            Vec3f::UnitZ(), c, true);
+    }
+  }
+
+  // An upright band around the axis between radii r_in and r_out, from z0
+  // to z1: outer and inner sides and top (a protective ring).
+  void Band(float r_in, float r_out, float z0, float z1, int segments, Color c) {
+    const auto& circle = Circle(segments);
+    for (size_t i = 0; i + 1 < circle.size(); ++i) {
+      const Vec2f& u = circle[i];
+      const Vec2f& v = circle[i + 1];
+      auto at = [](const Vec2f& w, float r, float z) { return Vec3f(r * w.x(), r * w.y(), z); };
+      const Vec3f out(u.x(), u.y(), 0);
+      Quad(at(u, r_out, z0), at(v, r_out, z0), at(v, r_out, z1), at(u, r_out, z1), out, c);
+      Quad(at(v, r_in, z0), at(u, r_in, z0), at(u, r_in, z1), at(v, r_in, z1), -out, c);
+      Quad(at(u, r_in, z1), at(u, r_out, z1), at(v, r_out, z1), at(v, r_in, z1), Vec3f::UnitZ(), c);
     }
   }
 
@@ -292,6 +310,86 @@ void AddHandbot(std::vector<Vertex>& out, const Simulation& sim, EntityHandle ro
   }
 }
 
+// The eye-bot: landing legs, central body with the ceiling attachment plate
+// on top (and a dark mark at its front), four arms out to the rotors on the
+// diagonals, the protective ring around them, the RGB LED (a glowing
+// collar under the body) and the pan-tilt head where the physics put it
+// (anchor "pan_tilt"; else from the unit's angles): a box along the head's
+// axis with the camera's lens and the laser's red aperture on its front.
+void AddEyebot(std::vector<Vertex>& out, const Simulation& sim, EntityHandle robot,
+               const Pose& pose, Color body, std::span<const Color> leds, Detail detail) {
+  using namespace eyebot;
+  const bool fine = detail == Detail::kFine;
+  const int segments = fine ? 24 : 12;
+  const Color metal{150, 150, 160, 255}, dark{45, 45, 50, 255}, rotor{110, 110, 115, 255};
+  const float ring_z = static_cast<float>(kRotorZ);
+  Painter p(out, pose);
+  // Ring, body (10 to 24 cm up) and attachment plate (up to the top).
+  p.Band(static_cast<float>(kRadius) - 0.012f, static_cast<float>(kRadius), ring_z - 0.03f,
+         ring_z + 0.01f, fine ? 32 : 16, metal);
+  p.Cylinder(0, 0, 0.10f, 0.24f, 0.07f, segments, body);
+  p.Cylinder(0, 0, 0.24f, static_cast<float>(kHeight), 0.05f, segments, metal);
+  p.Box(Vec3f(0.035f, 0, static_cast<float>(kHeight)), Vec3f(0.02f, 0.03f, 0.006f), dark);
+  if (!leds.empty()) p.Cylinder(0, 0, 0.085f, 0.10f, 0.05f, segments, leds[0], true);
+  for (int k = 0; k < kRotorCount; ++k) {
+    Pose arm = pose;
+    arm.orientation = pose.orientation * FromYaw(M_PI / 4 + k * M_PI / 2);
+    Painter a(out, arm);
+    const float hub = static_cast<float>(kRotorArm);
+    a.Box(Vec3f(0.5f * hub, 0, ring_z - 0.02f), Vec3f(hub, 0.016f, 0.016f), body);
+    a.Cylinder(hub, 0, ring_z - 0.02f, ring_z + 0.012f, 0.015f, 8, dark);
+    if (fine) {
+      a.Cylinder(hub, 0, ring_z + 0.012f, ring_z + 0.015f, static_cast<float>(kRotorRadius),
+                 segments, rotor);
+    }
+    // A landing leg under each arm, half-way out.
+    a.Box(Vec3f(0.6f * hub, 0, 0), Vec3f(0.012f, 0.012f, ring_z - 0.02f), dark);
+  }
+  Pose head;
+  if (!sim.Anchor(robot, "pan_tilt", head)) {
+    const PanTiltState* unit = sim.space().Get<PanTiltState>(robot.index);
+    if (!unit) return;
+    head = PanTiltFrame(pose, *unit);
+  }
+  // The head's stem (the pan axis) down from the body.
+  const Vec3 base = pose.position + pose.orientation * Vec3(0, 0, 0.10);
+  Painter stem(out, Towards(base, head.position, Vec3::UnitZ()));
+  stem.Cylinder(0, 0, 0, static_cast<float>((head.position - base).norm()), 0.008f, 8, dark);
+  Painter h(out, head);
+  h.Box(Vec3f(0, 0, -0.018f), Vec3f(0.04f, 0.036f, 0.036f), dark);
+  h.Box(Vec3f(0.022f, -0.006f, -0.007f), Vec3f(0.004f, 0.014f, 0.014f), Color{10, 10, 10, 255});
+  h.Box(Vec3f(0.021f, 0.011f, -0.003f), Vec3f(0.002f, 0.006f, 0.006f), Color{220, 0, 0, 255});
+}
+
+// The outward normal of the surface a laser lit at `spot` (beam: the beam's
+// unit direction): up on the floor and a ditch's bottom; a body's top,
+// bottom or side; facing the beam on a ditch's wall.
+Vec3 SurfaceNormal(const Space& space, const LaserSpot& spot, const Vec3& beam) {
+  const Vec3& p = spot.point;
+  if (spot.entity == LaserSpot::kFloor) {
+    const double z0 = space.arena_min().z();
+    const Ditch* ditch = space.floor().DitchAt(p.x(), p.y());
+    const double ground = ditch ? z0 - ditch->depth : z0;
+    return std::abs(p.z() - ground) < 1e-6 ? Vec3::UnitZ() : Vec3(-beam);
+  }
+  const Pose& pose = space.pose(spot.entity);
+  const Geometry& g = space.geometry(spot.entity);
+  const Vec3 local = pose.orientation.conjugate() * (p - pose.position);
+  Vec3 n = Vec3::UnitZ();
+  if (local.z() <= 1e-6) {
+    n = -Vec3::UnitZ();
+  } else if (local.z() < g.height() - 1e-6) {
+    if (g.shape == ShapeKind::kBox) {
+      const bool along_x = std::abs(local.x()) / g.size.x() >= std::abs(local.y()) / g.size.y();
+      n = along_x ? Vec3(std::copysign(1.0, local.x()), 0, 0)
+                  : Vec3(0, std::copysign(1.0, local.y()), 0);
+    } else {
+      n = Vec3(local.x(), local.y(), 0).normalized();
+    }
+  }
+  return pose.orientation * n;
+}
+
 void AddShape(Painter& p, const Geometry& g, Color c, Detail detail) {
   const float height = static_cast<float>(g.height());
   const int segments = detail == Detail::kFine ? 32 : 12;
@@ -327,6 +425,30 @@ void AddGrid(const Space& space, double spacing, SceneBatch& batch) {
   }
 }
 
+void AddLaserSpots(const Simulation& sim, SceneBatch& batch, bool beams) {
+  const Space& space = sim.space();
+  const Color red{255, 0, 0, 255};
+  const ComponentType pan_tilt = ComponentTypeOf<PanTiltState>();
+  // Only types that give their entities a pan-tilt unit (as the eye-bot does
+  // to every one): one check per type, not per entity.
+  for (size_t t = 0; t < space.type_count(); ++t) {
+    const auto& slots = space.OfType(static_cast<uint16_t>(t));
+    if (slots.empty() || !space.Has(slots.front(), pan_tilt)) continue;
+    for (uint32_t s : slots) {
+      const std::optional<LaserSpot> spot = CastLaser(space, s);
+      if (!spot) continue;
+      const Pose head = PanTiltFrame(space.pose(s), *space.Get<PanTiltState>(s));
+      const Vec3 beam = head.orientation * Vec3::UnitX();
+      // A thin glowing disc on the surface, lifted 1 mm off it.
+      const Vec3 n = SurfaceNormal(space, *spot, beam);
+      const Vec3 centre = spot->point + 0.001 * n;
+      Painter disc(batch.triangles, Towards(centre, centre + n, Vec3::UnitZ()));
+      disc.Cylinder(0, 0, 0, 0.0005f, kLaserSpotRadius, 12, red, true);
+      if (beams) AddLine(batch.lines, head.position, spot->point, red, red);
+    }
+  }
+}
+
 void SceneBuilder::AddEntity(uint32_t slot, SceneBatch& batch, Detail detail) const {
   const Space& space = sim_.space();
   Painter p(batch.triangles, space.pose(slot));
@@ -339,6 +461,10 @@ void SceneBuilder::AddEntity(uint32_t slot, SceneBatch& batch, Detail detail) co
     if (space.Get<ManipulatorState>(slot)) {
       AddManipulator(batch.triangles, sim_, space.HandleOf(slot), space.pose(slot), detail);
     }
+    return;
+  } else if (space.TypeLabel(space.type(slot)) == "eyebot") {
+    AddEyebot(batch.triangles, sim_, space.HandleOf(slot), space.pose(slot), space.color(slot),
+              leds, detail);
     return;
   } else if (space.TypeLabel(space.type(slot)) == "handbot") {
     AddHandbot(batch.triangles, sim_, space.HandleOf(slot), space.pose(slot), space.color(slot),

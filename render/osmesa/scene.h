@@ -47,8 +47,15 @@ void AddGrid(const Space& space, double spacing, SceneBatch& batch);
 // How finely curved shapes are cut: coarse for entities a few pixels wide.
 enum class Detail { kFine, kCoarse };
 
+// Adds the red spot of every laser that is on (eye-bots' pointers: a small
+// glowing disc on the surface it lit, entities/eyebot/eyebot.h CastLaser)
+// and, with `beams`, each beam as a thin red line from the head (frames show
+// it; cameras do not: a beam in clean air is invisible).
+void AddLaserSpots(const Simulation& sim, SceneBatch& batch, bool beams);
+
 // Adds entities to a batch: a marXbot as body, treels, LED ring and beacon;
-// a light as a small glowing ball; anything else as its box or cylinder;
+// an eye-bot as legs, body, arms, rotors, protective ring, LED and pan-tilt
+// head; a light as a small glowing ball; anything else as its box or cylinder;
 // an entity with a mesh in `meshes` as that mesh (plus its LEDs).
 class SceneBuilder {
  public:
