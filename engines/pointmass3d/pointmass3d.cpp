@@ -98,6 +98,7 @@ class Pointmass3dEngine : public PhysicsEngine {
     slots_.push_back(s);
     headings_.emplace_back();
     max_radius_ = std::max(max_radius_, space.geometry(s).BoundingRadius());
+    if (sim().tick() == 0) WarnIfHeldAwayFromCeiling(space, s);
   }
 
   void RemoveEntity(EntityHandle entity) override {

@@ -64,6 +64,7 @@ class EyebotDynamics3dModel : public Dynamics3dModel {
     if (robots_.size() <= s) robots_.resize(s + 1);
     robots_[s] = Robot{};
     slots_.insert(std::lower_bound(slots_.begin(), slots_.end(), s), s);
+    if (!stepped_) WarnIfHeldAwayFromCeiling(engine.entities(), s);  // at load
   }
 
   void Remove(Engine& engine, uint32_t s) override {
@@ -76,6 +77,7 @@ class EyebotDynamics3dModel : public Dynamics3dModel {
   // Attaches or lets go as asked.
   void BeforeStep(Engine& engine, double dt) override {
     (void)dt;
+    stepped_ = true;
     Space& space = engine.entities();
     for (uint32_t s : slots_) {
       Robot& r = robots_[s];
@@ -129,6 +131,7 @@ class EyebotDynamics3dModel : public Dynamics3dModel {
   }
 
  private:
+  bool stepped_ = false;  // the run has started
   struct Robot {
     dJointID hold = nullptr;  // the fixed joint to the ceiling, if attached
     double thrust_sum = 0;    // N, over this tick's sub-steps

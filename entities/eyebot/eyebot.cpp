@@ -1,5 +1,7 @@
 #include "entities/eyebot/eyebot.h"
 
+#include <cmath>
+
 #include "core/entity_type.h"
 #include "core/log.h"
 #include "core/text.h"
@@ -89,4 +91,18 @@ COLONY_REGISTER_ENTITY(
     (std::vector<std::string>{"eye-bot"}));
 
 }  // namespace
+
+void WarnIfHeldAwayFromCeiling(const Space& space, uint32_t slot) {
+  const auto* hold = space.Get<CeilingAttachmentState>(slot);
+  if (!hold || !hold->attach) return;
+  const double top = space.pose(slot).position.z() + space.geometry(slot).height();
+  const auto& ceiling = space.ceiling();
+  if (ceiling && std::abs(ceiling->z - top) <= eyebot::kAttachDistance) return;
+  LogWarning("eye-bot '" + space.id(slot) + "' is declared attached=\"true\", but its top is at " +
+             FormatNumber(top) + " m and " +
+             (ceiling ? "the ceiling at " + FormatNumber(ceiling->z) + " m"
+                      : std::string("the arena has no <ceiling>")) +
+             ": it does not hold at the start, and will once its top touches a ceiling");
+}
+
 }  // namespace colony

@@ -143,4 +143,9 @@ struct LaserSpot {
 };
 std::optional<LaserSpot> CastLaser(const Space& space, uint32_t slot);
 
+// For the physics models, when the run starts: a warning if eye-bot `slot`
+// was declared attached="true" but its top is not at a ceiling (it then
+// flies, and holds once it touches one).
+void WarnIfHeldAwayFromCeiling(const Space& space, uint32_t slot);
+
 }  // namespace colony

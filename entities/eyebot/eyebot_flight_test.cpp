@@ -267,6 +267,26 @@ TEST(EyebotFlight, LettingGoOfTheCeilingInPositionModeFliesToTheTarget) {
   EXPECT_LT((PositionOf(*sim, "e") - Vec3(1, 0, 1)).norm(), 0.02);
 }
 
+TEST(EyebotFlight, DeclaredAttachedAwayFromTheCeilingItWarnsAndHoldsOnceThere) {
+  ::testing::internal::CaptureStderr();
+  auto sim = LoadXml(Scene("0,0,1", "attached=\"true\"", "<ceiling height=\"2.5\"/>"));
+  const std::string log = ::testing::internal::GetCapturedStderr();
+  EXPECT_TRUE(Mentions(log, {"warning", "eye-bot 'e'", "attached=\"true\"", "top is at 1.3 m",
+                             "the ceiling at 2.5 m"}))
+      << log;
+  EyebotProbe& p = Probe(*sim);
+  p.rotors->SetVelocity(0, 0, 0.5);
+  RunFor(*sim, 0.5);
+  EXPECT_FALSE(p.ceiling->attached());
+  RunFor(*sim, 4);
+  EXPECT_TRUE(p.ceiling->attached());
+  EXPECT_NEAR(PositionOf(*sim, "e").z(), 2.2, 0.011);
+  // Declared at the ceiling: no warning.
+  ::testing::internal::CaptureStderr();
+  LoadXml(Scene("0,0,2.2", "attached=\"true\"", "<ceiling height=\"2.5\"/>"));
+  EXPECT_EQ(::testing::internal::GetCapturedStderr().find("attached"), std::string::npos);
+}
+
 TEST(EyebotFlight, TheAltimeterReadsTheHeightAboveTheFloorOrWhatIsBelow) {
   auto sim = LoadXml(Scene("0,0,0", "",
                            "<box id=\"table\" size=\"0.8,0.8,0.5\"><body position=\"1.5,0,0\"/>"

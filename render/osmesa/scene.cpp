@@ -425,6 +425,9 @@ void AddGrid(const Space& space, double spacing, SceneBatch& batch) {
   }
 }
 
+// Radius a landmark post is drawn with (m): it has no shape of its own.
+constexpr float kLandmarkRadius = 0.03f;
+
 void AddLaserSpots(const Simulation& sim, SceneBatch& batch, bool beams) {
   const Space& space = sim.space();
   const Color red{255, 0, 0, 255};
@@ -469,6 +472,11 @@ void SceneBuilder::AddEntity(uint32_t slot, SceneBatch& batch, Detail detail) co
   } else if (space.TypeLabel(space.type(slot)) == "handbot") {
     AddHandbot(batch.triangles, sim_, space.HandleOf(slot), space.pose(slot), space.color(slot),
                leds, ring, detail);
+    return;
+  } else if (space.TypeLabel(space.type(slot)) == "landmark") {
+    // A post (it has no collision shape): thin, in its colour.
+    p.Cylinder(0, 0, 0, static_cast<float>(space.geometry(slot).height()), kLandmarkRadius,
+               detail == Detail::kFine ? 16 : 8, space.color(slot));
     return;
   } else if (space.light(slot)) {
     p.Ball(Vec3f::Zero(), kLightBallRadius, leds.empty() ? space.color(slot) : leds[0]);

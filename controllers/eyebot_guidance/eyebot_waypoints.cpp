@@ -1,0 +1,67 @@
+// eyebot_waypoints: an eye-bot flies from one random waypoint to the next, in
+// position mode, inside a box of the arena (the flyers of the mixed-engines
+// benchmark, experiments/benchmarks/mixed_11000.xml).
+//   params: area ("x0,y0,z0,x1,y1,z1", m, where waypoints are drawn; default
+//           -2,-2,1,2,2,2), reached (m, 0.1: how close counts as there)
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+#include <string>
+
+#include "actuators/eyebot_propulsion/eyebot_propulsion.h"
+#include "core/registry.h"
+#include "sensors/positioning/positioning.h"
+
+namespace colony {
+namespace {
+
+class EyebotWaypoints : public Controller {
+ public:
+  void Init(const Params& params) override {
+    const std::string text = params.GetString("area", "-2,-2,1,2,2,2");
+    std::stringstream in(text);
+    std::string part;
+    size_t n = 0;
+    while (std::getline(in, part, ',') && n < 6) {
+      char* end = nullptr;
+      area_[n] = std::strtod(part.c_str(), &end);
+      if (end == part.c_str()) break;
+      ++n;
+    }
+    if (n != 6 || area_[0] >= area_[3] || area_[1] >= area_[4] || area_[2] > area_[5]) {
+      throw ParamError("area", text,
+                       "parameter 'area': six numbers \"x0,y0,z0,x1,y1,z1\" with x0 < x1, "
+                       "y0 < y1 and z0 <= z1 needed");
+    }
+    reached_ = params.GetDouble("reached", 0.1, 0.001, 100);
+    position_ = &GetSensor<PositioningSensor>("positioning");
+    rotors_ = &GetActuator<EyebotPropulsionActuator>("eyebot_propulsion");
+    NextWaypoint();
+  }
+
+  void ControlStep() override {
+    const double dx = position_->x() - waypoint_[0], dy = position_->y() - waypoint_[1],
+                 dz = position_->z() - waypoint_[2];
+    if (dx * dx + dy * dy + dz * dz < reached_ * reached_) NextWaypoint();
+  }
+
+ private:
+  void NextWaypoint() {
+    for (int i = 0; i < 3; ++i) waypoint_[i] = rng().Uniform(area_[i], area_[i + 3]);
+    rotors_->SetTargetPosition(waypoint_[0], waypoint_[1], waypoint_[2]);
+  }
+
+  std::array<double, 6> area_{};
+  std::array<double, 3> waypoint_{};
+  double reached_ = 0;
+  const PositioningSensor* position_ = nullptr;
+  EyebotPropulsionActuator* rotors_ = nullptr;
+};
+
+COLONY_REGISTER_CONTROLLER(EyebotWaypoints, "eyebot_waypoints",
+                           "an eye-bot flying from one random waypoint to the next; params: area "
+                           "(x0,y0,z0,x1,y1,z1), reached (m)");
+
+}  // namespace
+}  // namespace colony
