@@ -511,3 +511,31 @@ TEST(core_test_config, DidYouMeanPicksTheClosestTypoOnly) {
 
 }  // namespace
 }  // namespace colony
+
+namespace colony {
+namespace {
+
+TEST(core_test_params, GetNumbersReadsAListStrictly) {
+  Params p;
+  p.Set("tilts", "25, 50,75");
+  p.Set("bad", "25,5x");
+  p.Set("short", "1,2,3");
+  p.Set("high", "10,95");
+  EXPECT_EQ(p.GetNumbers("tilts", ""), (std::vector<double>{25, 50, 75}));
+  EXPECT_EQ(p.GetNumbers("absent", "-2,2", 2), (std::vector<double>{-2, 2}));
+  auto message = [&](const char* key, size_t count, double max) {
+    try {
+      p.GetNumbers(key, "", count, -1e300, max);
+    } catch (const ParamError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message("bad", 0, 1e300).find("'5x' is not a finite number"), std::string::npos);
+  EXPECT_NE(message("short", 4, 1e300).find("'1,2,3' has 3 numbers; accepted: 4 numbers"),
+            std::string::npos);
+  EXPECT_NE(message("high", 0, 90).find("95 is out of range"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace colony

@@ -56,6 +56,10 @@ class Params {
   int64_t GetInt(std::string_view key, int64_t fallback, int64_t min = INT64_MIN,
                  int64_t max = INT64_MAX) const;
   bool GetBool(std::string_view key, bool fallback) const;
+  // Finite numbers separated by commas ("25,50,75"), each in [min, max];
+  // exactly `count` of them unless count is 0 (then at least one).
+  std::vector<double> GetNumbers(std::string_view key, std::string_view fallback, size_t count = 0,
+                                 double min = -1e300, double max = 1e300) const;
   // Keys present but never read: the host reports them as unknown parameters.
   std::vector<std::string> Unread() const;
   // Every key a getter asked for, present or not (to suggest a correction).

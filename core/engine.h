@@ -79,10 +79,10 @@ class PhysicsEngine : public NamedSimulationBound {
   const std::optional<Region>& region() const { return region_; }
   void SetRegion(Region region) { region_ = std::move(region); }
   // The entity types it takes (entities="eyebot"): every movable entity of
-  // these types, inside its region, is its own and no other engine's, and
-  // it takes no movable entity of another type (fixed ones, walls, it shares
-  // as every engine does). Empty: it takes the movables its region holds
-  // whose types no engine takes.
+  // these types, wherever it is (such an engine has no region), is its own
+  // and no other engine's, and it takes no movable entity of another type
+  // (fixed ones, walls, it shares as every engine does). Empty: it takes the
+  // movables its region holds whose types no engine takes.
   const std::vector<std::string>& entity_types() const { return entity_types_; }
   bool takes_types() const { return !entity_types_.empty(); }
   void SetEntityTypes(std::vector<std::string> types) { entity_types_ = std::move(types); }

@@ -70,6 +70,30 @@ double Params::GetDouble(std::string_view key) const {
   return ParseDouble(std::string(key), GetString(key), -1e300, 1e300);
 }
 
+std::vector<double> Params::GetNumbers(std::string_view key, std::string_view fallback,
+                                       size_t count, double min, double max) const {
+  const Entry* e = Find(key);
+  const std::string name(key);
+  const std::string text = e ? e->value : std::string(fallback);
+  std::vector<double> out;
+  size_t begin = 0;
+  while (true) {
+    const size_t comma = text.find(',', begin);
+    std::string part = text.substr(begin, comma == std::string::npos ? comma : comma - begin);
+    while (!part.empty() && part.front() == ' ') part.erase(part.begin());
+    out.push_back(ParseDouble(name, part, min, max));
+    if (comma == std::string::npos) break;
+    begin = comma + 1;
+  }
+  if (count > 0 && out.size() != count) {
+    throw ParamError(name, text,
+                     "parameter '" + name + "': '" + text + "' has " + std::to_string(out.size()) +
+                         " numbers; accepted: " + std::to_string(count) +
+                         " numbers separated by commas");
+  }
+  return out;
+}
+
 int64_t Params::GetInt(std::string_view key, int64_t fallback, int64_t min, int64_t max) const {
   const Entry* e = Find(key);
   if (!e) return fallback;

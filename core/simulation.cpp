@@ -207,10 +207,11 @@ void Simulation::Migrate() {
     if (!space_.alive(s) || !space_.movable(s) || engine_of_[s] < 0) continue;
     const Vec3& p = space_.pose(s).position;
     PhysicsEngine& from = *engines_[engine_of_[s]];
-    if (from.Holds(p)) continue;
+    // An engine that takes entity types covers the whole arena: its own
+    // never leave it.
+    if (from.takes_types() || from.Holds(p)) continue;
     const auto& models = models_[space_.type(s)];
-    // Engines that take entity types take no migrants: their own never
-    // leave them, and they take no other type's movables.
+    // Engines that take entity types take no other type's movables.
     for (size_t e = 0; e < engines_.size(); ++e) {
       if (!models[e] || engines_[e]->takes_types() || !engines_[e]->Holds(p)) continue;
       CheckDevicesCanMigrate(s, from, *engines_[e]);
@@ -275,15 +276,7 @@ std::string Simulation::ComponentProblem(uint32_t slot, const std::vector<std::s
     const auto& simulated = model->components;
     if (std::find(simulated.begin(), simulated.end(), name) != simulated.end()) continue;
     // Engines whose model of this entity type simulates it.
-    std::vector<std::string> others;
-    const std::string suffix = ":" + type_label;
-    for (const PluginInfo* info : AllPlugins()) {
-      if (info->kind != PluginKind::kPhysicsModel || !info->label.ends_with(suffix)) continue;
-      if (std::find(info->components.begin(), info->components.end(), name) ==
-          info->components.end())
-        continue;
-      others.push_back(info->label.substr(0, info->label.size() - suffix.size()));
-    }
+    const std::vector<std::string> others = EnginesAbleToSimulate(type_label, name);
     return (attaching ? "its physics engine (" + EngineName(engine) + ")" : EngineName(engine)) +
            " does not simulate the " + name + " of a " + type_label +
            (others.empty() ? "; no engine does" : "; use " + Join(others, " or "));

@@ -214,8 +214,10 @@ class Simulation {
   // The engines `desc` goes into (one if movable); none: records why.
   std::vector<int> EnginesFor(const EntityDesc& desc, uint16_t type,
                               const std::vector<PhysicsModel*>& models);
-  // Engines with a model registered for entity type `type` ("pointmass3d").
-  static std::vector<std::string> EnginesAbleToSimulate(const std::string& type);
+  // Engines with a model registered for entity type `type` ("pointmass3d"),
+  // and, if `component` is given, whose model simulates that component.
+  static std::vector<std::string> EnginesAbleToSimulate(const std::string& type,
+                                                        const std::string& component = "");
   // Takes out again an entity whose robot failed to start while running.
   void Withdraw(const std::string& id);
   // Records a problem with `desc` (its line and element, when from the file).

@@ -430,12 +430,17 @@ std::string Simulation::PlaceProblemNow(const Space::EntityInit& init) {
   return "";
 }
 
-std::vector<std::string> Simulation::EnginesAbleToSimulate(const std::string& type) {
+std::vector<std::string> Simulation::EnginesAbleToSimulate(const std::string& type,
+                                                           const std::string& component) {
   std::vector<std::string> able;
   const std::string suffix = ":" + type;
   for (const PluginInfo* info : AllPlugins()) {
-    if (info->kind == PluginKind::kPhysicsModel && info->label.ends_with(suffix))
-      able.push_back(info->label.substr(0, info->label.size() - suffix.size()));
+    if (info->kind != PluginKind::kPhysicsModel || !info->label.ends_with(suffix)) continue;
+    const auto& simulated = info->components;
+    if (!component.empty() &&
+        std::find(simulated.begin(), simulated.end(), component) == simulated.end())
+      continue;
+    able.push_back(info->label.substr(0, info->label.size() - suffix.size()));
   }
   return able;
 }
@@ -446,7 +451,8 @@ std::vector<PhysicsModel*>& Simulation::ModelsFor(uint16_t type, const std::stri
   auto& models = models_[type];
   if (models.size() != engines_.size()) {
     models.assign(engines_.size(), nullptr);
-    // A type an engine takes (entities="...") is that engine's alone.
+    // A type an engine takes (entities="...") is that engine's alone, for
+    // its movable entities (EnginesFor); fixed ones are in every engine.
     taken_by_[type] = -1;
     for (size_t e = 0; e < engines_.size(); ++e) {
       const auto& taken = engines_[e]->entity_types();
@@ -454,7 +460,6 @@ std::vector<PhysicsModel*>& Simulation::ModelsFor(uint16_t type, const std::stri
         taken_by_[type] = static_cast<int>(e);
     }
     for (size_t e = 0; e < engines_.size(); ++e) {
-      if (taken_by_[type] >= 0 && taken_by_[type] != static_cast<int>(e)) continue;
       if (const auto* m = Registry<PhysicsModel>::Get().Find(engines_[e]->label() + ":" + label)) {
         model_storage_.push_back(m->create());
         models[e] = model_storage_.back().get();
@@ -472,14 +477,20 @@ std::vector<int> Simulation::EnginesFor(const EntityDesc& desc, uint16_t type,
   const Vec3& p = init.pose.position;
   const Vec2 half = FootprintHalfExtents(init.geometry, init.pose.orientation);
   const bool movable = init.flags & kMovable;
-  // A movable entity goes to the first engine (in file order) whose region
-  // holds it, among those that take its type or, if none does, those that
-  // take no types; a fixed one to every engine whose region it touches.
-  const bool taken = taken_by_[type] >= 0;
+  // A movable entity goes to the engine that takes its type or, if none
+  // does, to the first engine (in file order) that takes no types and whose
+  // region holds it; a fixed one to every engine whose region it touches.
+  const int taker = taken_by_[type];
+  bool only_takers = movable && taker < 0;  // every engine with a model takes other types
   for (size_t e = 0; e < engines_.size(); ++e) {
     if (!models[e]) continue;
     const PhysicsEngine& engine = *engines_[e];
-    if (movable && engine.takes_types() && !taken) continue;
+    if (movable && taker >= 0) {
+      if (static_cast<int>(e) != taker) continue;
+    } else if (movable && engine.takes_types()) {
+      continue;
+    }
+    only_takers = false;
     if (movable && engine.Holds(p)) {
       chosen.push_back(static_cast<int>(e));
       break;
@@ -490,7 +501,19 @@ std::vector<int> Simulation::EnginesFor(const EntityDesc& desc, uint16_t type,
       chosen.push_back(static_cast<int>(e));
     }
   }
-  if (chosen.empty()) {
+  if (chosen.empty() && only_takers) {
+    std::vector<std::string> takers;
+    for (size_t e = 0; e < engines_.size(); ++e) {
+      if (models[e])
+        takers.push_back(EngineName(engines_[e].get()) + ": " + Join(engines_[e]->entity_types()));
+    }
+    const std::string& label = space_.TypeLabel(type);
+    EntityError(desc, "", "",
+                "entity '" + init.id + "' is a movable " + label +
+                    ", and every engine that can simulate " + Article(label) + " " + label +
+                    " takes only the entity types it lists (" + Join(takers, "; ") +
+                    "); add an engine without entities=\"...\", or list " + label + " in one");
+  } else if (chosen.empty()) {
     std::vector<std::string> names;
     for (size_t e = 0; e < engines_.size(); ++e)
       if (models[e]) names.push_back(engines_[e]->label() + " '" + engines_[e]->id() + "'");

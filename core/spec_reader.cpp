@@ -302,6 +302,12 @@ void SpecReader::ReadEngines(const ConfigNode& root) {
     engine.plugin = PluginSpec{node.name(), "default", id, node};
     engine.region = ReadBoundaries(node);
     engine.entity_types = ReadEngineEntityTypes(node);
+    if (!engine.entity_types.empty() && engine.region) {
+      node.Child("boundaries")
+          .ElementError(
+              "an engine that takes entity types (entities=\"" + Join(engine.entity_types) +
+              "\") takes them wherever they are, in the whole arena; it cannot have <boundaries>");
+    }
     spec_.engines.push_back(std::move(engine));
   }
 }

@@ -1,6 +1,7 @@
 // Engines that take entity types (entities="eyebot"): eye-bots fly in one
 // engine while foot-bots drive in another, in the same arena; sensors see
 // across engines; load-time errors for claims that cannot work.
+#include "actuators/differential_steering/differential_steering.h"
 #include "tests/test_util.h"
 
 namespace colony {
@@ -15,6 +16,21 @@ class Idle : public Controller {
 };
 COLONY_REGISTER_CONTROLLER(Idle, "engine_types_idle", "test: does nothing");
 const char kIdle[] = "<engine_types_idle id=\"idle\"/>";
+
+class Cruise : public Controller {
+ public:
+  void Init(const Params&) override {
+    wheels_ = &GetActuator<DifferentialSteering>("differential_steering");
+  }
+  void ControlStep() override { wheels_->SetLinearVelocity(0.2, 0.2); }
+
+ private:
+  DifferentialSteering* wheels_ = nullptr;
+};
+COLONY_REGISTER_CONTROLLER(Cruise, "engine_types_cruise", "test: drives straight on");
+const char kCruise[] =
+    "<engine_types_cruise id=\"cruise\"><actuators><differential_steering/></actuators>"
+    "</engine_types_cruise>";
 
 std::string Marxbot(const std::string& id, const std::string& position) {
   return "<marxbot id=\"" + id + "\"><body position=\"" + position +
@@ -97,6 +113,47 @@ TEST(EngineTypes, TwoAndThreeDimensionalRegionEnginesStillDoNotMix) {
   EXPECT_TRUE(
       Mentions(m, {"<dynamics3d id=\"d3\">", "cannot share an experiment's regions with 2D engines",
                    "entities=\"eyebot\""}));
+}
+
+TEST(EngineTypes, FixedEntitiesOfATakenTypeStayInEveryEngine) {
+  if (!testing::HaveEngine("dynamics2d") || !testing::HaveEngine("pointmass3d")) {
+    GTEST_SKIP() << "no dynamics2d or pointmass3d in this build";
+  }
+  // The walls are boxes, and pointmass3d takes boxes: the movable ones are
+  // its own, but the walls (fixed) still stop a foot-bot in dynamics2d.
+  auto sim = testing::LoadXml(testing::Experiment(
+      "<marxbot id=\"m\"><body position=\"1.2,0,0\"/><controller config=\"cruise\"/></marxbot>"
+      "<box id=\"b\" size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"1\"><body "
+      "position=\"-1,-1,0\"/></box><walls/>",
+      kCruise, "4,4,1", "",
+      "<dynamics2d id=\"ground\"/><pointmass3d id=\"air\" entities=\"eyebot, box\"/>"));
+  EXPECT_EQ(sim->EngineOf(sim->space().Find("b"))->id(), "air");
+  testing::RunFor(*sim, 8);
+  EXPECT_LT(testing::PositionOf(*sim, "m").x(), 2.0 - 0.08) << "drove through the east wall";
+}
+
+TEST(EngineTypes, AnEngineThatTakesTypesHasNoBoundaries) {
+  const std::string m = LoadError(testing::Experiment(
+      "", "", "4,4,1", "",
+      "<kinematics2d id=\"ground\" entities=\"marxbot\"><boundaries><top height=\"1\"/>"
+      "<bottom height=\"0\"/><sides><vertex point=\"-1,-1\"/><vertex point=\"1,-1\"/>"
+      "<vertex point=\"1,1\"/></sides></boundaries></kinematics2d>"));
+  EXPECT_TRUE(Mentions(m, {"<boundaries>", "takes entity types (entities=\"marxbot\")",
+                           "cannot have <boundaries>"}));
+}
+
+TEST(EngineTypes, AMovableThatOnlyTypeTakingEnginesCouldSimulateIsExplained) {
+  if (!testing::HaveEngine("pointmass3d")) GTEST_SKIP() << "no pointmass3d in this build";
+  const std::string m = LoadError(testing::Experiment(
+      "<box id=\"b\" size=\"0.2,0.2,0.2\" movable=\"true\" mass=\"1\"><body "
+      "position=\"1,1,0\"/></box>",
+      "", "4,4,1", "",
+      "<kinematics2d id=\"ground\" entities=\"marxbot\"/><pointmass3d id=\"air\" "
+      "entities=\"eyebot\"/>"));
+  EXPECT_TRUE(Mentions(
+      m, {"<box id=\"b\"", "entity 'b' is a movable box", "takes only the entity types it lists",
+          "kinematics2d 'ground': marxbot; pointmass3d 'air': eyebot",
+          "add an engine without entities="}));
 }
 
 }  // namespace

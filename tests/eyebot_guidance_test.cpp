@@ -55,16 +55,26 @@ INSTANTIATE_TEST_SUITE_P(Seeds, GuidanceSeed, ::testing::Values(1, 2, 3));
 
 TEST(EyebotGuidance, BadParametersAreRefused) {
   if (!HaveEngines()) GTEST_SKIP() << "pointmass3d or kinematics2d not in this build";
+  auto error = [](const std::string& override) {
+    try {
+      testing::LoadExperiment("eyebot_guidance.xml", 1, {override});
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_TRUE(testing::Mentions(error("loop_functions.params.k=11"),
+                                {"<params>", "'k'", "11 foot-bots", "has 10"}));
+  EXPECT_TRUE(testing::Mentions(error("loop_functions.params.k=2.5"), {"not a whole number"}));
+  EXPECT_TRUE(testing::Mentions(error("controllers.eyebot_guide[guide].params.tilts=25,x"),
+                                {"'tilts'", "'x' is not a finite number"}));
+  EXPECT_TRUE(testing::Mentions(error("controllers.eyebot_guide[guide].params.tilts=25,95"),
+                                {"'tilts'", "95 is out of range"}));
+  EXPECT_TRUE(testing::Mentions(error("controllers.eyebot_guide[guide].params.area=1,2,3"),
+                                {"'area'", "4 numbers"}));
   EXPECT_TRUE(testing::Mentions(
-      [] {
-        try {
-          testing::LoadExperiment("eyebot_guidance.xml", 1, {"loop_functions.params.k=11"});
-        } catch (const ConfigError& e) {
-          return std::string(e.what());
-        }
-        return std::string();
-      }(),
-      {"'k'", "11 foot-bots", "has 10"}));
+      error("controllers.footbot_follow_spot[follower].params.spot_color=reddish"),
+      {"'spot_color'", "'reddish' is not a colour"}));
 }
 
 // Eye-bots flying in pointmass3d over foot-bots in kinematics2d (the

@@ -7,28 +7,22 @@
 
 Each run is `colony run experiments/eyebot_guidance.xml --seed S`; the figures
 are the last row of its metrics.csv (loop_functions/eyebot_guidance)."""
-import csv
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 
 import docblock
+import runs
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BUILD = sys.argv[1] if len(sys.argv) > 1 else "build"
-COLONY = os.path.join(ROOT, BUILD, "bin", "colony")
 DOC = os.path.join(ROOT, "docs", "eyebot.md")
 SEEDS = range(1, 11)
 
 
 def run(seed, out):
-    subprocess.run([COLONY, "run", "experiments/eyebot_guidance.xml", "--seed", str(seed), "--out", out,
-                    "--overwrite", "--quiet"], cwd=ROOT, check=True)
-    with open(os.path.join(out, "metrics.csv")) as f:
-        rows = list(csv.DictReader(f))
-    return rows[-1]
+    return runs.last_metrics(BUILD, "experiments/eyebot_guidance.xml", seed, out)
 
 
 def summary(name, values):

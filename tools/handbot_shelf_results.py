@@ -7,28 +7,22 @@
 
 Each run is `colony run experiments/handbot_shelf.xml --seed S`; the figures are
 the last row of its metrics.csv (loop_functions/handbot_shelf)."""
-import csv
 import os
 import statistics
-import subprocess
 import sys
 
 import docblock
+import runs
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BUILD = sys.argv[1] if len(sys.argv) > 1 else "build"
-COLONY = os.path.join(ROOT, BUILD, "bin", "colony")
 DOC = os.path.join(ROOT, "docs", "handbot.md")
 SEEDS = range(1, 11)
 
 
 def run(seed, out):
-    subprocess.run([COLONY, "run", "experiments/handbot_shelf.xml", "--seed", str(seed), "--out", out,
-                    "--overwrite", "--quiet"], cwd=ROOT, check=True)
-    with open(os.path.join(out, "metrics.csv")) as f:
-        rows = list(csv.DictReader(f))
-    return rows[-1]
+    return runs.last_metrics(BUILD, "experiments/handbot_shelf.xml", seed, out)
 
 
 def main():

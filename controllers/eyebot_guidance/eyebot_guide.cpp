@@ -6,7 +6,7 @@
 // so the spot marks the target for the foot-bots. A search that finds
 // nothing sends it to another place under the ceiling, chosen at random in
 // `area`, to search again.
-//   params: target_color ("r,g,b", default 0,0,255), color_tolerance (per
+//   params: target_color (a colour, default 0,0,255), color_tolerance (per
 //           channel, 60), climb_speed (m/s, 0.5), tilts (degrees, the search's
 //           tilts, "25,50,75"), pan_step (degrees, 60), area ("x0,y0,x1,y1",
 //           m, where to search next; default -2,-2,2,2), lost_steps (20: for
@@ -15,13 +15,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <sstream>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "actuators/eyebot_ceiling/eyebot_ceiling.h"
 #include "actuators/eyebot_laser/eyebot_laser.h"
 #include "actuators/eyebot_pan_tilt/eyebot_pan_tilt.h"
 #include "actuators/eyebot_propulsion/eyebot_propulsion.h"
+#include "core/color.h"
 #include "core/registry.h"
 #include "sensors/eyebot_ceiling/eyebot_ceiling.h"
 #include "sensors/eyebot_pan_tilt_camera/eyebot_pan_tilt_camera.h"
@@ -30,53 +32,29 @@
 namespace colony {
 namespace {
 
-// Comma-separated numbers of parameter `key`; exactly `count` unless 0.
-std::vector<double> Numbers(const Params& params, const std::string& key,
-                            const std::string& fallback, size_t count) {
-  const std::string text = params.GetString(key, fallback);
-  std::vector<double> out;
-  std::stringstream in(text);
-  std::string part;
-  while (std::getline(in, part, ',')) {
-    char* end = nullptr;
-    const double v = std::strtod(part.c_str(), &end);
-    if (end == part.c_str() || !std::isfinite(v)) {
-      throw ParamError(key, text,
-                       "parameter '" + key + "': '" + text + "' is not a list of numbers");
-    }
-    out.push_back(v);
-  }
-  if ((count > 0 && out.size() != count) || out.empty()) {
-    throw ParamError(key, text,
-                     "parameter '" + key + "': '" + text + "' needs " +
-                         (count > 0 ? std::to_string(count) + " numbers" : "numbers") +
-                         " separated by commas");
-  }
-  return out;
-}
-
 class EyebotGuide : public Controller {
  public:
   void Init(const Params& params) override {
-    const auto color = Numbers(params, "target_color", "0,0,255", 3);
-    for (int i = 0; i < 3; ++i) target_color_[i] = color[i];
+    const std::string color = params.GetString("target_color", "0,0,255");
+    const std::optional<Color> target = ParseColor(color);
+    if (!target) {
+      throw ParamError(
+          "target_color", color,
+          "parameter 'target_color': '" + color + "' is not a colour; accepted: " + kColorAccepted);
+    }
+    target_color_ = {double(target->r), double(target->g), double(target->b)};
     tolerance_ = params.GetDouble("color_tolerance", 60, 0, 255);
     climb_speed_ = params.GetDouble("climb_speed", 0.5, 0.01, 10);
-    for (double t : Numbers(params, "tilts", "25,50,75", 0)) {
-      if (t < 0 || t > 90) {
-        throw ParamError("tilts", params.GetString("tilts", ""),
-                         "parameter 'tilts': each in [0, 90] degrees");
-      }
+    for (double t : params.GetNumbers("tilts", "25,50,75", 0, 0, 90))
       tilts_.push_back(t * M_PI / 180);
-    }
     pan_step_ = params.GetDouble("pan_step", 60, 1, 360) * M_PI / 180;
-    const auto area = Numbers(params, "area", "-2,-2,2,2", 4);
+    const auto area = params.GetNumbers("area", "-2,-2,2,2", 4);
     if (area[0] >= area[2] || area[1] >= area[3]) {
       throw ParamError("area", params.GetString("area", ""),
                        "parameter 'area': x0 < x1 and y0 < y1 needed");
     }
     area_ = {area[0], area[1], area[2], area[3]};
-    lost_steps_ = static_cast<int>(params.GetDouble("lost_steps", 20, 0, 1e6));
+    lost_steps_ = static_cast<int>(params.GetInt("lost_steps", 20, 0, 1000000));
     position_ = &GetSensor<PositioningSensor>("positioning");
     ceiling_ = &GetSensor<EyebotCeilingSensor>("eyebot_ceiling");
     camera_ = &GetSensor<EyebotPanTiltCamera>("eyebot_pan_tilt_camera");

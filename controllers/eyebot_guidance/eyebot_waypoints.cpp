@@ -5,9 +5,7 @@
 //           -2,-2,1,2,2,2), reached (m, 0.1: how close counts as there)
 #include <array>
 #include <cmath>
-#include <cstdlib>
-#include <sstream>
-#include <string>
+#include <vector>
 
 #include "actuators/eyebot_propulsion/eyebot_propulsion.h"
 #include "core/registry.h"
@@ -19,20 +17,11 @@ namespace {
 class EyebotWaypoints : public Controller {
  public:
   void Init(const Params& params) override {
-    const std::string text = params.GetString("area", "-2,-2,1,2,2,2");
-    std::stringstream in(text);
-    std::string part;
-    size_t n = 0;
-    while (std::getline(in, part, ',') && n < 6) {
-      char* end = nullptr;
-      area_[n] = std::strtod(part.c_str(), &end);
-      if (end == part.c_str()) break;
-      ++n;
-    }
-    if (n != 6 || area_[0] >= area_[3] || area_[1] >= area_[4] || area_[2] > area_[5]) {
-      throw ParamError("area", text,
-                       "parameter 'area': six numbers \"x0,y0,z0,x1,y1,z1\" with x0 < x1, "
-                       "y0 < y1 and z0 <= z1 needed");
+    const std::vector<double> area = params.GetNumbers("area", "-2,-2,1,2,2,2", 6);
+    for (size_t i = 0; i < 6; ++i) area_[i] = area[i];
+    if (area_[0] >= area_[3] || area_[1] >= area_[4] || area_[2] > area_[5]) {
+      throw ParamError("area", params.GetString("area", ""),
+                       "parameter 'area': x0 < x1, y0 < y1 and z0 <= z1 needed");
     }
     reached_ = params.GetDouble("reached", 0.1, 0.001, 100);
     position_ = &GetSensor<PositioningSensor>("positioning");

@@ -6,17 +6,18 @@
 // spot lost from sight (hidden by another robot, or switched off) is driven
 // toward where it was seen for `memory_steps` more control steps before it
 // wanders again.
-//   params: velocity (m/s, 0.2), spot_color ("r,g,b", 255,0,0),
+//   params: velocity (m/s, 0.2), spot_color (a colour, 255,0,0),
 //           color_tolerance (per channel, 60), stop_distance (m, 0.3),
 //           avoid_distance (proximity value above which it turns away, 0.3),
 //           memory_steps (30)
 #include <algorithm>
 #include <cmath>
-#include <sstream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "actuators/differential_steering/differential_steering.h"
+#include "core/color.h"
 #include "core/registry.h"
 #include "sensors/omnidirectional_camera/omnidirectional_camera.h"
 #include "sensors/proximity/proximity.h"
@@ -29,18 +30,17 @@ class FootbotFollowSpot : public Controller {
   void Init(const Params& params) override {
     velocity_ = params.GetDouble("velocity", 0.2, 0, 10);
     const std::string color = params.GetString("spot_color", "255,0,0");
-    std::stringstream in(color);
-    std::string part;
-    int n = 0;
-    while (std::getline(in, part, ',') && n < 3) spot_[n++] = std::atof(part.c_str());
-    if (n != 3) {
-      throw ParamError("spot_color", color,
-                       "parameter 'spot_color': three numbers \"r,g,b\" in [0, 255] needed");
+    const std::optional<Color> spot = ParseColor(color);
+    if (!spot) {
+      throw ParamError(
+          "spot_color", color,
+          "parameter 'spot_color': '" + color + "' is not a colour; accepted: " + kColorAccepted);
     }
+    spot_[0] = spot->r, spot_[1] = spot->g, spot_[2] = spot->b;
     tolerance_ = params.GetDouble("color_tolerance", 60, 0, 255);
     stop_distance_ = params.GetDouble("stop_distance", 0.3, 0, 100);
     avoid_ = params.GetDouble("avoid_distance", 0.3, 0, 1);
-    memory_steps_ = static_cast<int>(params.GetDouble("memory_steps", 30, 0, 1e6));
+    memory_steps_ = static_cast<int>(params.GetInt("memory_steps", 30, 0, 1000000));
     proximity_ = &GetSensor<ProximitySensor>("proximity");
     camera_ = &GetSensor<OmnidirectionalCamera>("omnidirectional_camera");
     wheels_ = &GetActuator<DifferentialSteering>("differential_steering");

@@ -285,6 +285,7 @@ class Pointmass3dEngine : public PhysicsEngine {
     // Resting on what is under it with less lift than its weight: friction
     // holds it (no sliding, no turning).
     if (b.supported && out.force.z() < mass * kGravity) {
+      b.position.head<2>() = b.start.head<2>();
       b.velocity.head<2>().setZero();
       b.yaw = yaw0;
     }

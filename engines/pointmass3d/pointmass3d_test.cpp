@@ -135,6 +135,15 @@ TEST(Pointmass3d, AWallStopsAFlyerWithoutOverlap) {
   EXPECT_NEAR(TwistOf(*sim, "e").linear.x(), 0.0, 1e-9) << "no speed into the wall";
 }
 
+TEST(Pointmass3d, ARobotTooLightlyLiftedToLeaveTheFloorStaysWhereItIs) {
+  // Told to fly to a point below the floor, 2 m away: its rotors never lift
+  // it, and friction holds it where it stands (no creeping along the floor).
+  auto sim =
+      LoadXml(Scene(Eyebot("e", "0,0,0", "low"), Pilot("low", "x=\"2\" y=\"0\" z=\"-0.5\"")));
+  RunFor(*sim, 3);
+  EXPECT_EQ(PositionOf(*sim, "e"), Vec3(0, 0, 0));
+}
+
 TEST(Pointmass3d, AFlyerOverALowWallPassesAndOneBelowItsTopDoesNot) {
   const std::string wall = "<box id=\"wall\" size=\"0.1,4,1\"><body position=\"0,0,0\"/></box>";
   auto sim = LoadXml(Scene(

@@ -104,8 +104,8 @@ class EyebotDynamics3dModel : public Dynamics3dModel {
       dBodyID b = engine.BodyOf(s);
       const Quat rot = BodyQuat(b);
       const Vec3 feet = BodyPos(b) - rot * Vec3(0, 0, 0.5 * space.geometry(s).height());
-      const eyebot::FlightOutput out =
-          eyebot::Fly(q, feet, ToVec(dBodyGetLinearVel(b)), YawOf(rot), space.mass(s));
+      const eyebot::FlightOutput out = eyebot::Fly(q, feet, ToVec(dBodyGetLinearVel(b)), YawOf(rot),
+                                                   space.mass(s), -engine.params().gravity.z());
       dBodyAddForce(b, out.force.x(), out.force.y(), out.force.z());
       r.thrust_sum += out.thrust;
       const Vec3 torque = AttitudeTorque(b, rot, out.yaw_rate, h, q.max_thrust);
@@ -124,10 +124,7 @@ class EyebotDynamics3dModel : public Dynamics3dModel {
 
   // "pan_tilt": the pan-tilt head's frame (eyebot.h, PanTiltFrame).
   bool Anchor(const Space& space, uint32_t s, std::string_view name, Pose& pose) const override {
-    const PanTiltState* head = space.Get<PanTiltState>(s);
-    if (name != PanTiltState::kComponentName || !head) return false;
-    pose = PanTiltFrame(space.pose(s), *head);
-    return true;
+    return PanTiltAnchor(space, s, name, pose);
   }
 
  private:

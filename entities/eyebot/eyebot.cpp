@@ -92,6 +92,13 @@ COLONY_REGISTER_ENTITY(
 
 }  // namespace
 
+bool PanTiltAnchor(const Space& space, uint32_t slot, std::string_view name, Pose& pose) {
+  const PanTiltState* head = space.Get<PanTiltState>(slot);
+  if (name != PanTiltState::kComponentName || !head) return false;
+  pose = PanTiltFrame(space.pose(slot), *head);
+  return true;
+}
+
 void WarnIfHeldAwayFromCeiling(const Space& space, uint32_t slot) {
   const auto* hold = space.Get<CeilingAttachmentState>(slot);
   if (!hold || !hold->attach) return;

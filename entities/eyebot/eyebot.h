@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string_view>
 
 #include "core/math.h"
 #include "core/state_hash.h"
@@ -24,7 +25,7 @@ inline constexpr double kHeight = 0.30;  // m, from the feet to the attachment p
 inline constexpr double kMass = 1.0;     // kg (our choice: the sources give only the thrust)
 // Seed 003, 5.3.1: 4 rotors of up to 350 g of thrust each, 1.4 kg in all.
 inline constexpr int kRotorCount = 4;
-inline constexpr double kRotorThrust = 0.350 * 9.81;              // N each
+inline constexpr double kRotorThrust = 0.350 * 9.81;  // (standard gravity)              // N each
 inline constexpr double kMaxThrust = kRotorCount * kRotorThrust;  // N: 13.73
 // Flight envelope (our choices): fastest horizontal and vertical speed,
 // largest acceleration the flight computer commands, fastest turn.
@@ -131,6 +132,10 @@ inline Pose PanTiltFrame(const Pose& body, const PanTiltState& pt) {
   frame.orientation.normalize();
   return frame;
 }
+
+// The anchor the eye-bot's physics models give (core/engine.h,
+// PhysicsModel::Anchor): "pan_tilt", the head's frame (PanTiltFrame).
+bool PanTiltAnchor(const Space& space, uint32_t slot, std::string_view name, Pose& pose);
 
 // Where the laser of entity `slot` (which has a PanTiltState) first hits the
 // floor or a solid entity, within its range; none when it is off or hits

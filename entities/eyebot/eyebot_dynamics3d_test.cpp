@@ -66,6 +66,16 @@ double Tilt(const Simulation& sim, const std::string& id) {
   return std::acos(std::clamp(up.z(), -1.0, 1.0));
 }
 
+TEST(EyebotDynamics3d, TheFlightComputerCompensatesTheEnginesGravity) {
+  // On Mars: the rotors carry 1 kg x 3.71 m/s^2, not 9.81.
+  auto sim = LoadXml(Scene(Eyebot("e", "0,0,0"), "gravity=\"0,0,-3.71\""));
+  const Vec3 target(0, 0, 1);
+  FlyTo(*sim, "e", target);
+  RunFor(*sim, 8);
+  EXPECT_LT((PositionOf(*sim, "e") - target).norm(), 0.02) << PositionOf(*sim, "e").transpose();
+  EXPECT_NEAR(Rotors(*sim, "e").thrust, eyebot::kMass * 3.71, 0.05);
+}
+
 TEST(EyebotDynamics3d, FliesToAPointAndHoversThereLevel) {
   auto sim = LoadXml(Scene(Eyebot("e", "0,0,0")));
   const Vec3 target(0.5, -0.5, 1.2);

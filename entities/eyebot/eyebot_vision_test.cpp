@@ -393,7 +393,8 @@ TEST(EyebotLaser, TheMediumHoldsOneRedPointPerLaserJustOffTheSurface) {
   const auto& spots = medium->laser_spots();
   ASSERT_EQ(spots.size(), 2u);
   const uint32_t e = sim->space().Find("e").index, q = sim->space().Find("q").index;
-  for (const auto& [owner, x] : {std::pair{e, 0.0}, std::pair{q, 2.0}}) {
+  for (const auto& [robot, x] : {std::pair{e, 0.0}, std::pair{q, 2.0}}) {
+    const uint32_t owner = robot;  // a lambda cannot capture a structured binding (clang)
     const LedMedium::Led* s = medium->LaserSpotOf(owner);
     ASSERT_NE(s, nullptr);
     EXPECT_EQ(s->color, (Color{255, 0, 0, 255}));

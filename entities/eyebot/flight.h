@@ -17,7 +17,7 @@
 
 namespace colony::eyebot {
 
-inline constexpr double kGravity = 9.81;
+inline constexpr double kGravity = 9.81;  // m/s^2, pointmass3d's (and dynamics3d's default)
 // Loop gains (1/s): position to velocity, velocity to acceleration (a
 // damping ratio of 0.7), heading to yaw rate.
 inline constexpr double kPositionGain = 2.0;
@@ -38,8 +38,9 @@ inline double ApproachSpeed(double error, double limit, double acceleration) {
   return std::copysign(v, error);
 }
 
+// `gravity`: the engine's, pulling down (m/s^2).
 inline FlightOutput Fly(const QuadrotorState& q, const Vec3& position, const Vec3& velocity,
-                        double yaw, double mass) {
+                        double yaw, double mass, double gravity = kGravity) {
   FlightOutput out;
   if (q.mode == QuadrotorState::Mode::kOff) return out;
   Vec3 target_velocity;
@@ -63,7 +64,7 @@ inline FlightOutput Fly(const QuadrotorState& q, const Vec3& position, const Vec
   Vec3 a = kVelocityGain * (target_velocity - velocity);
   const double an = a.norm();
   if (an > q.max_acceleration) a *= q.max_acceleration / an;
-  Vec3 f = mass * (a + Vec3(0, 0, kGravity));
+  Vec3 f = mass * (a + Vec3(0, 0, gravity));
   f.z() = std::clamp(f.z(), 0.0, q.max_thrust);
   const double side = std::sqrt(std::max(0.0, q.max_thrust * q.max_thrust - f.z() * f.z()));
   const double fh = f.head<2>().norm();

@@ -16,11 +16,7 @@ namespace {
 class EyebotPointmass3dModel : public Pointmass3dFlyerModel {
  public:
   bool Anchor(const Space& space, uint32_t slot, std::string_view name, Pose& pose) const override {
-    if (name != "pan_tilt") return false;
-    const PanTiltState* head = space.Get<PanTiltState>(slot);
-    if (!head) return false;
-    pose = PanTiltFrame(space.pose(slot), *head);
-    return true;
+    return PanTiltAnchor(space, slot, name, pose);
   }
 };
 

@@ -32,7 +32,7 @@ class EyebotGuidance : public LoopFunctions {
     }
     mark_radius_ = params.GetDouble("mark_radius", 0.2, 0, 1e6);
     reach_radius_ = params.GetDouble("reach_radius", 0.6, 0, 1e6);
-    k_ = static_cast<int>(params.GetDouble("k", 5, 1, 1e9));
+    k_ = static_cast<int>(params.GetInt("k", 5, 1, 1000000000));
     stop_ = params.GetBool("stop", true);
     int footbots = 0;
     for (uint32_t s = 0; s < space.slots(); ++s) {
@@ -44,7 +44,9 @@ class EyebotGuidance : public LoopFunctions {
         ++footbots;
       }
     }
-    if (eyebots_.empty()) throw ParamError("target", target, "the arena has no eye-bot");
+    if (eyebots_.empty()) {
+      throw ParamError("", "", "the arena has no eye-bot (an entity with a pan-tilt head)");
+    }
     if (k_ > footbots) {
       throw ParamError("k", std::to_string(k_),
                        "parameter 'k': " + std::to_string(k_) +

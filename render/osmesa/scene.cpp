@@ -474,7 +474,10 @@ void SceneBuilder::AddEntity(uint32_t slot, SceneBatch& batch, Detail detail) co
                leds, ring, detail);
     return;
   } else if (space.TypeLabel(space.type(slot)) == "landmark") {
-    // A post (it has no collision shape): thin, in its colour.
+    // A post (it has no collision shape): thin, in its colour; a black
+    // landmark is one cameras do not see, so it is not drawn.
+    const Color c = space.color(slot);
+    if ((c.r | c.g | c.b) == 0) return;
     p.Cylinder(0, 0, 0, static_cast<float>(space.geometry(slot).height()), kLandmarkRadius,
                detail == Detail::kFine ? 16 : 8, space.color(slot));
     return;

@@ -42,8 +42,8 @@ class EyebotAltitudeSystem : public SensorSystem {
   void Update(size_t begin, size_t end) override {
     const Space& space = sim().space();
     const Vec3 down(0, 0, -1);
-    std::vector<uint32_t> near;  // per chunk
-    near.reserve(16);
+    static thread_local std::vector<uint32_t> scratch;  // no allocation once warmed up
+    std::vector<uint32_t>& near = scratch;
     for (size_t k = begin; k < end; ++k) {
       AltitudeInstance& a = instances_[k];
       if (!a.alive) continue;

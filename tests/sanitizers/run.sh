@@ -49,7 +49,8 @@ fi
 stage "ThreadSanitizer: build the multi-threaded tests"
 TSAN_TARGETS=(core_test kinematics2d_test dynamics2d_test dynamics3d_test media_sensors_test scenario_test
               swarm_experiments_test rope_launcher_test handbot_gripper_proximity_test light_scanner_battery_test
-              manipulator_sensor_test handbot_shelf_test)
+              manipulator_sensor_test handbot_shelf_test pointmass3d_test eyebot_dynamics3d_test eyebot_vision_test
+              eyebot_guidance_test)
 CC=clang CXX=clang++ cmake -S . -B "$TSAN_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCOLONY_SANITIZE=thread \
   -DCOLONY_BUILD_BENCHMARKS=OFF -DCOLONY_WITH_OSMESA=OFF
 cmake --build "$TSAN_DIR" -j2 --target "${TSAN_TARGETS[@]}"
