@@ -90,6 +90,10 @@ class EntityType {
     (void)name;
     return "";
   }
+  // Called after entities of this type were added to `space`: once after
+  // the arena is built (before loop functions start), and after each one a
+  // program adds while running. Pockets settle onto what is under them.
+  virtual void Placed(Space& space) const { (void)space; }
   virtual const DeviceMounts& mounts() const {
     static const DeviceMounts kNone;
     return kNone;

@@ -71,6 +71,9 @@ void Simulation::Build(const ExperimentSpec& spec) {
   rng_ = RandomStream::For(seed_, "loop_functions", "");
   BuildArena(spec.arena);
   diagnostics.ThrowIfAny();
+  for (const auto& [type, id] : entity_types_) {
+    if (type) type->Placed(space_);
+  }
   CreateLoopFunctions(spec.loop_functions);
   diagnostics.ThrowIfAny();
   space_.UpdateIndex();
@@ -532,6 +535,7 @@ EntityHandle Simulation::AddEntity(const EntityDesc& desc, PlacementCheck check)
   try {
     h = Add(desc, check, nullptr);
     context_->diagnostics.ThrowIfAny();
+    if (h.valid()) entity_types_[space_.type(h.index)].first->Placed(space_);
   } catch (const ConfigError&) {
     // A robot whose devices or controller failed to start is taken out again.
     if (id_was_free) Withdraw(desc.init.id);

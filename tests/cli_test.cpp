@@ -183,7 +183,8 @@ TEST(Cli, QueryShowsWhatEachPhysicsModelSimulates) {
   EXPECT_NE(
       models.output.find(
           "kinematics2d:marxbot\n      circular footprint moved by its differential drive; stops "
-          "at obstacles\n      simulates: drive\n"),
+          "at obstacles; with manipulator=\"true\" a kinematic head (elevation, rotation, tilt) "
+          "whose magnet carries pockets\n      simulates: drive, manipulator\n"),
       std::string::npos)
       << models.output;
   if (colony::testing::HaveEngine("dynamics2d") || colony::testing::HaveEngine("dynamics3d")) {

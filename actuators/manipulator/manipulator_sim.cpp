@@ -1,8 +1,10 @@
 // Simulated manipulator actuator: writes the controller's commands into the
 // robot's ManipulatorState (elevation clamped to the limits, rotation wrapped
-// to (-pi, pi]). The engine moves the head towards them at the state's speeds,
-// switches the magnet over switch_time and joins what the engaged magnet
-// touches; only engines that simulate the manipulator accept it (dynamics3d),
+// to (-pi, pi], tilt limited to its range with a warning once per robot). The
+// engine moves the head towards them at the state's speeds, switches the
+// magnet over switch_time and holds what the engaged magnet touches; only
+// engines that simulate the manipulator accept it (dynamics3d, kinematics2d,
+// dynamics2d),
 // elsewhere it is a load-time error. XML attributes override the robot's
 // limits.
 #include <algorithm>
@@ -14,6 +16,7 @@
 #include "actuators/manipulator/manipulator.h"
 #include "actuators/manipulator/manipulator_state.h"
 #include "core/device.h"
+#include "core/log.h"
 #include "core/simulation.h"
 
 namespace colony {
@@ -21,10 +24,13 @@ namespace {
 
 struct ManipulatorInstance : ManipulatorActuator, InstanceBase {
   using Interface = ManipulatorActuator;
-  void SetLimits(double min_elevation, double max_elevation) {
-    min_elevation_ = min_elevation;
-    max_elevation_ = max_elevation;
+  void SetLimits(const ManipulatorState& m) {
+    min_elevation_ = m.min_elevation;
+    max_elevation_ = m.max_elevation;
+    min_tilt_ = m.min_tilt;
+    max_tilt_ = m.max_tilt;
   }
+  bool warned_tilt = false;
 };
 
 class ManipulatorSystem : public ActuatorSystem {
@@ -39,6 +45,7 @@ class ManipulatorSystem : public ActuatorSystem {
     max_elevation_ = read("max_elevation", Range::Positive());
     elevation_speed_ = read("elevation_speed", Range::Positive());
     rotation_speed_ = read("rotation_speed", Range::Positive());
+    tilt_speed_ = read("tilt_speed", Range::Positive());
     switch_time_ = read("switch_time", Range::Positive());
     // The range must stay non-empty, also against the default of the bound
     // that is not given (when both values could be read).
@@ -64,13 +71,14 @@ class ManipulatorSystem : public ActuatorSystem {
     if (max_elevation_) m->max_elevation = *max_elevation_;
     if (elevation_speed_) m->elevation_speed = *elevation_speed_;
     if (rotation_speed_) m->rotation_speed = *rotation_speed_;
+    if (tilt_speed_) m->tilt_speed = *tilt_speed_;
     if (switch_time_) m->switch_time = *switch_time_;
     if (m->min_elevation >= m->max_elevation) {
       throw AttachError("its manipulator's elevation range [" + FormatNumber(m->min_elevation) +
                         ", " + FormatNumber(m->max_elevation) + "] is empty");
     }
     ManipulatorInstance& a = instances_.Add(robot, rng);
-    a.SetLimits(m->min_elevation, m->max_elevation);
+    a.SetLimits(*m);
     return &a;
   }
   void Detach(Actuator* a) override { instances_.Remove(static_cast<ManipulatorActuator*>(a)); }
@@ -87,22 +95,43 @@ class ManipulatorSystem : public ActuatorSystem {
       m.target_elevation = std::clamp(elevation, m.min_elevation, m.max_elevation);
       m.target_rotation =
           WrapAngle(std::isfinite(a.rotation_target()) ? a.rotation_target() : m.rotation);
+      m.target_tilt = LimitedTilt(a, space.id(a.robot.index), m);
       m.want_magnet = a.magnet_wanted();
     }
   }
 
  private:
+  // The tilt the controller asked for, within the robot's range (a warning,
+  // once per robot, when it is not); where the head is when it is not a
+  // finite number.
+  static double LimitedTilt(ManipulatorInstance& a, const std::string& id,
+                            const ManipulatorState& m) {
+    const double asked = a.tilt_target();
+    if (!std::isfinite(asked)) return m.tilt;
+    if (asked >= m.min_tilt && asked <= m.max_tilt) return asked;
+    const double used = std::clamp(asked, m.min_tilt, m.max_tilt);
+    if (!a.warned_tilt) {
+      a.warned_tilt = true;
+      LogWarning("robot '" + id + "': manipulator tilt " + FormatNumber(asked) + " rad (" +
+                 FormatNumber(RadToDeg(asked)) + " degrees) is outside its range, [" +
+                 FormatNumber(m.min_tilt) + ", " + FormatNumber(m.max_tilt) +
+                 "] rad; the head goes to " + FormatNumber(used) +
+                 " rad instead (said once per robot)");
+    }
+    return used;
+  }
+
   // Overrides of the robot's limits; none: keep the robot's.
   std::optional<double> min_elevation_, max_elevation_, elevation_speed_, rotation_speed_,
-      switch_time_;
+      tilt_speed_, switch_time_;
   InstanceStore<ManipulatorInstance> instances_;
 };
 
 COLONY_REGISTER_ACTUATOR(
     ManipulatorSystem, "manipulator", "default",
     "the marXbot's magnetic construction manipulator: head elevation, head rotation (magnet side / "
-    "IR "
-    "side), switchable magnet (needs an engine that simulates it: dynamics3d)",
+    "IR side), head tilt, switchable magnet (needs an engine that simulates it: dynamics3d, "
+    "without the tilt, kinematics2d, dynamics2d)",
     (std::vector<AttributeDoc>{
         {"min_elevation", "a number >= 0 (m), below max_elevation", "the robot's (marXbot: 0.03)",
          "lowest height of the magnet's centre above the floor"},
@@ -112,6 +141,8 @@ COLONY_REGISTER_ACTUATOR(
          "how fast the head moves up and down"},
         {"rotation_speed", "a number > 0 (rad/s)", "the robot's (marXbot: 1)",
          "how fast the head turns"},
+        {"tilt_speed", "a number > 0 (rad/s)", "the robot's (marXbot: 1)",
+         "how fast the head tilts"},
         {"switch_time", "a number > 0 (s)", "the robot's (marXbot: 1)",
          "how long the magnet takes to switch over"},
     }));

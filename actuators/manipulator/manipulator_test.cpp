@@ -46,6 +46,11 @@ COLONY_REGISTER_ENGINE(ManipulatorDoubleEngine, "manipulator_actuator_double",
                        "test double: heads jump to their commands; nothing moves", {});
 COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_actuator_double:marxbot", "test double",
                               (std::vector<std::string>{"drive", "manipulator"}));
+// An engine whose marXbot model does not simulate the manipulator.
+COLONY_REGISTER_ENGINE(ManipulatorDoubleEngine, "manipulator_actuator_none",
+                       "test double: simulates no manipulator", {});
+COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_actuator_none:marxbot", "test double",
+                              (std::vector<std::string>{"drive"}));
 
 // Sends what the test puts in its public fields every control step.
 class ManipulatorDriver : public Controller {
@@ -229,14 +234,13 @@ TEST(ManipulatorActuator, RobotWithoutManipulatorIsRejected) {
 }
 
 TEST(ManipulatorActuator, EnginesThatDoNotSimulateItRejectItAtLoadTime) {
-  const std::string m =
-      LoadError(Experiment(Robot("r"), Controllers(), "4,4,1", "", "<kinematics2d id=\"k2d\"/>"));
-  ExpectMentions(
-      m, {"<manipulator>: robot 'r' (a marxbot",
-          "its physics engine (kinematics2d 'k2d') does not simulate the manipulator of "
-          "a marxbot; use " +
-              std::string(testing::HaveEngine("dynamics3d") ? "dynamics3d"
-                                                            : "manipulator_actuator_double")});
+  const std::string m = LoadError(
+      Experiment(Robot("r"), Controllers(), "4,4,1", "", "<manipulator_actuator_none id=\"n\"/>"));
+  ExpectMentions(m, {"<manipulator>: robot 'r' (a marxbot",
+                     "its physics engine (manipulator_actuator_none 'n') does not simulate the "
+                     "manipulator of a marxbot; use ",
+                     "manipulator_actuator_double"});
+  if (testing::HaveEngine("kinematics2d")) ExpectMentions(m, {"kinematics2d"});
 }
 
 TEST(ManipulatorActuator, RegisteredAttributesMatchTheReadme) {
@@ -245,7 +249,7 @@ TEST(ManipulatorActuator, RegisteredAttributesMatchTheReadme) {
   const std::vector<std::string> registered = entry->info.AttributeNames();
   EXPECT_EQ(registered,
             (std::vector<std::string>{"min_elevation", "max_elevation", "elevation_speed",
-                                      "rotation_speed", "switch_time"}));
+                                      "rotation_speed", "tilt_speed", "switch_time"}));
   EXPECT_EQ(testing::ReadmeAttributes("actuators/manipulator"), registered);
 }
 

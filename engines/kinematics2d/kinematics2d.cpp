@@ -12,7 +12,10 @@
 // set whatever the order or thread count. Robots therefore never
 // interpenetrate. Objects (boxes, cylinders), movable or not, are fixed
 // obstacles in this engine: robots stop at them and do not push them
-// (use dynamics2d to push things).
+// (use dynamics2d to push things). After the discs moved, models that hook
+// into the step (kinematics2d.h) run, one after another: the marXbot's
+// moves its manipulator and what the magnet carries, which the collision
+// test then ignores.
 #include "engines/kinematics2d/kinematics2d.h"
 
 #include <algorithm>
@@ -24,6 +27,18 @@
 #include "core/simulation.h"
 
 namespace colony {
+
+namespace kinematics2d {
+
+Space& Engine::entities() { return sim().space(); }
+
+void Engine::SetCarried(uint32_t s, bool carried) {
+  if (carried_.size() <= s) carried_.resize(s + 1, 0);
+  carried_[s] = carried;
+}
+
+}  // namespace kinematics2d
+
 namespace {
 
 // Memory layout. A step sweeps the robots three times: proposals and commit
@@ -38,14 +53,16 @@ namespace {
 // order: a robot's neighbours then sit next to it in memory. None of this
 // changes the results: each proposal and commit is the robot's own, and the
 // set of blocked robots is the same whatever the order it is computed in.
-class Kinematics2dEngine : public PhysicsEngine {
+class Kinematics2dEngine : public kinematics2d::Engine {
  public:
   void AddEntity(EntityHandle entity, PhysicsModel& model) override {
-    const auto* m = dynamic_cast<const Kinematics2dModel*>(&model);
+    auto* m = dynamic_cast<Kinematics2dModel*>(&model);
     if (!m)
       throw RuntimeFailure("the kinematics2d model of '" +
                            sim().space().TypeLabel(sim().space().type(entity.index)) +
                            "' is not a Kinematics2dModel (engines/kinematics2d/kinematics2d.h)");
+    if (std::find(models_.begin(), models_.end(), m) == models_.end()) models_.push_back(m);
+    m->Add(*this, entity.index);
     if (!m->driven() || !sim().space().drive(entity.index))
       return;  // obstacles are read from the space
     // Incremental (not Reindex()): loading 100,000 robots must stay linear.
@@ -55,6 +72,8 @@ class Kinematics2dEngine : public PhysicsEngine {
   }
 
   void RemoveEntity(EntityHandle entity) override {
+    for (Kinematics2dModel* m : models_) m->EntityLeaving(*this, entity.index);
+    SetCarried(entity.index, false);
     auto it = std::find(robots_.begin(), robots_.end(), entity.index);
     if (it == robots_.end()) return;
     robots_.erase(it);
@@ -63,8 +82,13 @@ class Kinematics2dEngine : public PhysicsEngine {
 
   void Step(double dt) override {
     Space& space = sim().space();
+    if (!robots_.empty()) MoveDiscs(space, dt);
+    for (Kinematics2dModel* m : models_) m->AfterStep(*this, dt);
+  }
+
+ private:
+  void MoveDiscs(Space& space, double dt) {
     const size_t n = robots_.size();
-    if (n == 0) return;
     RankBySpace(space);
     candidate_.resize(n);
     yaw_.resize(n);
@@ -161,7 +185,6 @@ class Kinematics2dEngine : public PhysicsEngine {
     });
   }
 
- private:
   // The heading conversions of one robot (atan2, sin, cos), remembered from
   // its last step. A robot driving straight has the same orientation, heading
   // and direction tick after tick, and recomputing them was a tenth of the
@@ -274,7 +297,8 @@ class Kinematics2dEngine : public PhysicsEngine {
         close = close || (other.position - c).squaredNorm() < rr * rr;
       } else {
         // Another engine's movables may be moving right now: not ours to see.
-        if (space.movable(o) && !Owns(o)) continue;
+        // What a robot carries blocks nothing.
+        if ((space.movable(o) && !Owns(o)) || carried(o)) continue;
         const Pose& other = space.pose(o);
         const Geometry& og = space.geometry(o);
         if (other.position.z() >= z1 || z0 >= other.position.z() + og.height()) continue;
@@ -300,6 +324,8 @@ class Kinematics2dEngine : public PhysicsEngine {
   std::vector<int32_t> rank_of_slot_;  // rank, or -1
   // Scratch.
   std::vector<uint32_t> retest_, newly_, near_;
+  // The models of the entities it holds, in the order they came (for their hooks).
+  std::vector<Kinematics2dModel*> models_;
 };
 
 COLONY_REGISTER_ENGINE(Kinematics2dEngine, "kinematics2d",

@@ -15,7 +15,9 @@
 
 #include "actuators/gripper/gripper_state.h"
 #include "actuators/manipulator/manipulator_state.h"
+#include "core/log.h"
 #include "core/space.h"
+#include "core/text.h"
 #include "engines/dynamics3d/dynamics3d.h"
 #include "engines/dynamics3d/parts.h"
 #include "entities/marxbot/marxbot.h"
@@ -42,8 +44,7 @@ struct MarxbotGeometry {
   double com_height_manipulator = 0.07;
 };
 constexpr MarxbotGeometry kMarxbot3d;
-// The head's vertical pivot, ahead of the robot's axis.
-constexpr double kHeadPivotX = marxbot::kBodyRadius + 0.5 * marxbot::kHeadDepth;  // m
+using marxbot::kHeadPivotX;
 constexpr double kHeadMaxForce = 50.0;  // N, elevation motor
 constexpr double kHeadMaxTorque = 2.0;  // N m, rotation motor
 // Sideways yield of a treel's tread: sliding speed per newton (m/s / N).
@@ -160,7 +161,10 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
     for (uint32_t s : slots_) {
       Robot& r = *robots_[s];
       SetTreads(space, s, r);
-      if (r.head) UpdateMagnet(engine, space, s, r, dt);
+      if (r.head) {
+        UpdateMagnet(engine, space, s, r, dt);
+        RefuseTilt(space, s, r);
+      }
       if (GripperState* g = space.Get<GripperState>(s)) UpdateGrip(engine, s, r, *g);
     }
   }
@@ -226,6 +230,7 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
     dJointID piston = nullptr;
     double elevation0 = 0, rotation0 = 0;  // joint positions when the joints were made
     Magnet magnet;
+    bool tilt_refused = false;  // the warning about the tilt was given
     // Gripper: the joint fixing what it holds to the chassis.
     dJointID grip = nullptr;
     uint32_t gripped = kNone;
@@ -306,6 +311,19 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
     const double error = WrapAngle(aim - Rotation(r));
     dJointSetPistonParam(r.piston, dParamVel2,
                          std::clamp(error / h, -m.rotation_speed, m.rotation_speed));
+  }
+
+  // The head's tilt is not simulated here (it would need a third joint): the
+  // head stays upright, and a tilt command is refused with a warning, once
+  // per robot.
+  static void RefuseTilt(const Space& space, uint32_t s, Robot& r) {
+    const ManipulatorState& m = *space.Get<ManipulatorState>(s);
+    if (m.target_tilt == 0 || r.tilt_refused) return;
+    r.tilt_refused = true;
+    LogWarning("robot '" + space.id(s) +
+               "': dynamics3d does not simulate the manipulator's tilt; " +
+               "the head stays upright (tilt 0), not " + FormatNumber(m.target_tilt) +
+               " rad (said once per robot; kinematics2d simulates the tilt)");
   }
 
   // Switches the magnet over, lets go when it is no longer fully engaged,

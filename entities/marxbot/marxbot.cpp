@@ -37,7 +37,10 @@ class MarxbotType : public EntityType {
     desc.init.mass = kMass;
     // The construction manipulator (seed 000, 2.2.2; seed 004, 3.3).
     if (node.GetBool("manipulator", false)) {
-      init.components.Add<ManipulatorState>();
+      ManipulatorState& arm = init.components.Add<ManipulatorState>();
+      arm.min_tilt = kMinTilt;
+      arm.max_tilt = kMaxTilt;
+      arm.tilt_speed = kTiltSpeed;
       init.geometry.size.z() = kHeightWithManipulator;
       init.mass = kMass + kManipulatorMass;
     }
@@ -61,7 +64,8 @@ COLONY_REGISTER_ENTITY(
     (std::vector<AttributeDoc>{
         {"color", kColorAccepted, "60,60,60", "body colour"},
         {"manipulator", "true, false", "false",
-         "carries the magnetic construction manipulator (29 cm tall); needs dynamics3d"}}),
+         "carries the magnetic construction manipulator (29 cm tall); needs dynamics3d, "
+         "kinematics2d or dynamics2d"}}),
     (std::vector<std::string>{"foot-bot"}));
 
 }  // namespace

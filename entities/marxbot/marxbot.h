@@ -1,6 +1,8 @@
 // The marXbot (foot-bot): figures from ../shared/ROBOTS.md.
 #pragma once
 
+#include <cmath>
+
 namespace colony::marxbot {
 
 inline constexpr double kBodyRadius = 0.085;            // m
@@ -19,6 +21,27 @@ inline constexpr double kHeadDepth = 0.03;   // m, along the head's x axis
 inline constexpr double kHeadWidth = 0.05;   // m
 inline constexpr double kHeadHeight = 0.03;  // m, also the magnet face's height
 inline constexpr double kHeadMass = 0.15;    // kg
+// The head's vertical pivot (rotation axis, through the head's centre): just
+// in front of the body, on the robot's x axis (m from the robot's axis).
+inline constexpr double kHeadPivotX = kBodyRadius + 0.5 * kHeadDepth;
+// Tilt: the head pitches about its own horizontal axis across it (its y
+// axis, through its centre); positive tilt turns the magnet face down and
+// the IR face up. +pi/2: the magnet looks straight down (it lies on a
+// pocket's top with the head at its lowest); -pi/2: the IR face lies flat,
+// looking down. No figures in the sources: range and speed are choices.
+inline constexpr double kMinTilt = -M_PI / 2, kMaxTilt = M_PI / 2;  // rad
+inline constexpr double kTiltSpeed = 1.0;                           // rad/s
+// What the magnet holds when fully engaged, besides cubes (dynamics3d): a
+// pocket whose top is within kMagnetReach of the magnet face's centre, the
+// face looking down (within kMagnetMaxSlant of straight down) and its centre
+// over the pocket near its ferromagnetic strip: within kMagnetStripReach of
+// the pocket's long axis (the strip runs along it; 3 cm of the pocket's 3.5
+// cm half-width, so that a robot whose body touches a pocket across its path
+// holds it: its face's centre is then 2 to 3 cm off the axis) and within its
+// length.
+inline constexpr double kMagnetReach = 0.01;         // m
+inline constexpr double kMagnetMaxSlant = M_PI / 6;  // rad
+inline constexpr double kMagnetStripReach = 0.03;    // m
 
 inline constexpr int kProximityCount = 24;  // 15 degrees apart
 inline constexpr double kProximityElevation =

@@ -1,5 +1,6 @@
-// Passive things: box, cylinder, construction cube, light, landmark.
+// Passive things: box, cylinder, construction cube, light, landmark, pocket.
 #include "core/entity_type.h"
+#include "entities/objects/pocket.h"
 
 namespace colony {
 namespace {
@@ -119,25 +120,69 @@ COLONY_REGISTER_ENTITY(LightType, "light", "a point light that light sensors see
                        }),
                        {});
 
-// A landmark (seed 004): a coloured post the omnidirectional camera sees as
-// one blob at its centre (media/led). Not solid: robots drive through it and
-// ray sensors ignore it; put a cylinder at the same place for an obstacle.
+// A landmark (seed 004): a coloured post, a solid upright cylinder robots
+// stop at, that the omnidirectional camera sees as one blob at its centre
+// (media/led). Never movable.
 class LandmarkType : public EntityType {
  public:
   void Build(const ConfigNode& node, EntityDesc& desc) const override {
-    desc.init.geometry.size = Vec3(0, 0, node.GetDouble("height", 0.2, Range::Positive()));
-    desc.init.flags = 0;
+    const double radius = node.GetDouble("radius", kLandmarkRadius, Range::Positive());
+    const double height = node.GetDouble("height", 0.2, Range::Positive());
+    desc.init.geometry.shape = ShapeKind::kCylinder;
+    desc.init.geometry.radius = radius;
+    desc.init.geometry.size = Vec3(2 * radius, 2 * radius, height);
+    desc.init.flags = kSolid;
     desc.init.color = node.GetColor("color", Color{0, 255, 0, 255});
   }
+
+ private:
+  // The seed gives no size; a post 6 cm across, as the renderer always drew it.
+  static constexpr double kLandmarkRadius = 0.03;  // m
 };
 
 COLONY_REGISTER_ENTITY(
     LandmarkType, "landmark",
-    "a coloured post the omnidirectional camera sees (one blob at its centre); not solid; "
-    "takes <body>",
+    "a coloured post: a solid upright cylinder that the omnidirectional camera sees as one "
+    "blob at its centre; never movable; takes <body>",
     (std::vector<AttributeDoc>{
-        {"height", "a number > 0 (m)", "0.2", "the blob is at half this height"},
+        {"radius", "a number > 0 (m)", "0.03", "radius of the post"},
+        {"height", "a number > 0 (m)", "0.2", "height of the post; the blob is at half of it"},
         {"color", kColorAccepted, "green", "colour of the blob (black: not seen)"},
+    }),
+    {});
+
+// The deformable pocket of seed 004 (pocket.h): a bag of rice, 12 x 7 x 1.5
+// cm, red. Movable (the manipulator carries it) and solid (ray sensors see
+// it), but no engine pushes it: it lies where it was put down, on the heap
+// model's height (entities/objects/README.md, "Pockets").
+class PocketType : public EntityType {
+ public:
+  void Build(const ConfigNode& node, EntityDesc& desc) const override {
+    desc.init.geometry.shape = ShapeKind::kBox;
+    desc.init.geometry.size = Vec3(pocket::kLength, pocket::kWidth, pocket::kThickness);
+    desc.init.geometry.radius = desc.init.geometry.BoundingRadius();
+    desc.init.flags = kSolid | kMovable;
+    desc.init.mass = node.GetDouble("mass", pocket::kMass, Range::Positive());
+    desc.init.color = node.GetColor("color", Color{255, 0, 0, 255});
+    PocketState state;
+    state.threshold = node.GetDouble("occlusion_threshold", 100 * pocket::kOcclusionThreshold,
+                                     Range::Between(0, 100)) /
+                      100;
+    desc.init.components.Add(state);
+  }
+  void Placed(Space& space) const override { SettlePendingPockets(space); }
+};
+
+COLONY_REGISTER_ENTITY(
+    PocketType, "pocket",
+    "a deformable pocket (seed 004): a 12 x 7 x 1.5 cm bag of rice, red, held by the "
+    "manipulator's magnet; settles on the pockets under it; invisible to cameras once covered "
+    "beyond its occlusion threshold; takes <body>",
+    (std::vector<AttributeDoc>{
+        {"mass", "a number > 0 (kg)", "0.1", "mass"},
+        {"color", kColorAccepted, "red", "colour seen by cameras (black: not seen)"},
+        {"occlusion_threshold", "a number in [0, 100] (%)", "75",
+         "invisible to cameras once more than this much of its top is covered by pockets"},
     }),
     {});
 

@@ -11,6 +11,10 @@ COLONY_REGISTER_PHYSICS_MODEL(ObjectPointmass3dModel, "pointmass3d:box",
                               "fixed obstacle, movable or not (not pushed in this engine)", {});
 COLONY_REGISTER_PHYSICS_MODEL(ObjectPointmass3dModel, "pointmass3d:cylinder",
                               "fixed obstacle, movable or not (not pushed in this engine)", {});
+COLONY_REGISTER_PHYSICS_MODEL(ObjectPointmass3dModel, "pointmass3d:landmark",
+                              "fixed obstacle: an upright cylinder", {});
+COLONY_REGISTER_PHYSICS_MODEL(ObjectPointmass3dModel, "pointmass3d:pocket",
+                              "obstacle, never pushed; lies where it was put down", {});
 
 }  // namespace
 }  // namespace colony

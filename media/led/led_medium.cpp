@@ -6,6 +6,7 @@
 #include "core/entity_type.h"
 #include "core/simulation.h"
 #include "entities/eyebot/eyebot.h"
+#include "entities/objects/pocket.h"
 
 namespace colony {
 namespace {
@@ -20,6 +21,10 @@ bool Lit(const Color& c) { return (c.r | c.g | c.b) != 0; }
 // so that the surface does not hide it from cameras (occlusion checks).
 constexpr double kSpotLift = 0.002;  // m
 const Color kLaserRed{255, 0, 0, 255};
+
+// Where an object's one point is (LED indices are >= 0).
+constexpr int kCentre = -1;  // a landmark: on its axis at half its height
+constexpr int kPocket = -2;  // a pocket: the centre of the uncovered part of its top
 
 }  // namespace
 
@@ -73,7 +78,7 @@ void LedMedium::FindLaserSpots() {
 }
 
 void LedMedium::Update() {
-  const Space& space = sim().space();
+  Space& space = sim().space();
   const uint32_t slots = space.slots();
   // Per-type LED layouts, read once per type (not thread-safe: done here).
   for (uint32_t s = 0; s < slots; ++s) {
@@ -81,11 +86,11 @@ void LedMedium::Update() {
     const uint16_t type = space.type(s);
     if (type >= types_.size() || !types_[type].known) LedsOfType(s);
   }
-  if (landmark_type_ < 0) {
-    for (size_t t = 0; t < space.type_count(); ++t) {
-      if (space.TypeLabel(static_cast<uint16_t>(t)) == "landmark")
-        landmark_type_ = static_cast<int>(t);
-    }
+  // The types seen as objects (one check per type, not per entity).
+  for (; types_named_ < space.type_count(); ++types_named_) {
+    const std::string& label = space.TypeLabel(static_cast<uint16_t>(types_named_));
+    if (label == "landmark") landmark_type_ = static_cast<int>(types_named_);
+    if (label == "pocket") pocket_type_ = static_cast<int>(types_named_);
   }
 
   // Pass 1: how many lit points each block of slots holds.
@@ -93,8 +98,15 @@ void LedMedium::Update() {
   block_counts_.assign(blocks + 1, 0);
   auto for_each_point = [&](uint32_t s, auto&& emit) {
     if (!space.alive(s)) return;
-    if (static_cast<int>(space.type(s)) == landmark_type_) {
-      if (Lit(space.color(s))) emit(-1, space.color(s));
+    const int type = space.type(s);
+    if (type == landmark_type_) {
+      if (Lit(space.color(s))) emit(kCentre, space.color(s));
+      return;
+    }
+    if (type == pocket_type_) {
+      const PocketState& pocket = *space.Get<PocketState>(s);
+      if (pocket.holder == PocketState::kNobody && pocket.visible() && Lit(space.color(s)))
+        emit(kPocket, space.color(s));
       return;
     }
     const auto leds = space.leds(s);
@@ -135,9 +147,15 @@ void LedMedium::Update() {
         Eigen::Matrix3d rotation;
         for_each_point(s, [&](int i, Color color) {
           // Ring LEDs on the ring; the others (beacons, a light's LED) on the
-          // axis at the top of the body; a landmark at its centre.
-          Vec3 local(0, 0, i < 0 ? 0.5 * height : height);
+          // axis at the top of the body; a landmark at its centre; a pocket
+          // at the centre of the uncovered part of its top (what a camera
+          // sees of it, and never under another pocket).
+          Vec3 local(0, 0, i == kCentre ? 0.5 * height : height);
           if (i >= 0 && ring && static_cast<size_t>(i) < ring->size()) local = (*ring)[i];
+          if (i == kPocket) {
+            const PocketState& pocket = *space.Get<PocketState>(s);
+            local = Vec3(pocket.seen_x, pocket.seen_y, height);
+          }
           if (!rotated) {
             rotation = pose.orientation.toRotationMatrix();
             rotated = true;
@@ -164,9 +182,9 @@ void LedMedium::Update() {
 }
 
 COLONY_REGISTER_MEDIUM(LedMedium, "led",
-                       "every lit LED (robots' LED rings and beacons, lights), every landmark "
-                       "and every laser spot (eye-bots' laser pointers), as coloured points that "
-                       "cameras see",
+                       "every lit LED (robots' LED rings and beacons, lights), every landmark, "
+                       "every visible pocket and every laser spot (eye-bots' laser pointers), as "
+                       "coloured points that cameras see",
                        (std::vector<AttributeDoc>{
                            {"cell_size", "a number > 0 (m)", "the largest camera range",
                             "side of the index's grid cells (a speed knob: which blobs are seen "

@@ -1,6 +1,7 @@
 // The LED medium: every lit LED in the arena (robots' LED rings and beacons,
-// lights), every landmark and every laser spot (an eye-bot's laser pointer
-// where it meets a surface), as coloured points in the world frame, in a
+// lights), every landmark, every visible pocket (not held, not covered beyond
+// its threshold) and every laser spot (an eye-bot's laser pointer where it
+// meets a surface), as coloured points in the world frame, in a
 // uniform grid rebuilt once per tick after physics (tick step 3). Cameras
 // (the omnidirectional camera) read the cells around them, so a query costs
 // what is near. See media/led/README.md.
@@ -30,7 +31,8 @@ class LedMedium : public Medium {
   void RequestOcclusions() { occlusions_ = true; }
   const OccluderGrid& occluders() const { return occluders_; }
 
-  // One coloured point: an LED, a landmark's centre, or a laser spot. 32 bytes.
+  // One coloured point: an LED, a landmark's centre, a pocket's top centre,
+  // or a laser spot. 32 bytes.
   struct Led {
     double x, y, z;
     Color color;
@@ -74,7 +76,9 @@ class LedMedium : public Medium {
   OccluderGrid occluders_;
 
   std::vector<TypeLeds> types_;         // by space type id
+  size_t types_named_ = 0;              // space types whose labels were read
   int landmark_type_ = -1;              // space type id of "landmark", once it exists
+  int pocket_type_ = -1;                // space type id of "pocket", once it exists
   std::vector<uint32_t> block_counts_;  // lit points per block of slots
   std::vector<Led> unsorted_;
   std::vector<uint32_t> cell_of_;

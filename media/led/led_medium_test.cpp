@@ -1,5 +1,6 @@
-// The LED medium's index: every lit LED (and landmark) where it really is,
-// and a grid whose cells hold everything a camera may see.
+// The LED medium's index: every lit LED (and landmark, and visible pocket)
+// where it really is, and a grid whose cells hold everything a camera may
+// see.
 #include "media/led/led_medium.h"
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 
 #include "actuators/leds/leds.h"
 #include "core/registry.h"
+#include "entities/objects/pocket.h"
 #include "media/test_util.h"
 
 namespace colony {
@@ -102,6 +104,39 @@ TEST(LedMedium, IndexesEveryLitLedInTheWorldFrame) {
                             return Near(l, Vec3(-1, -1, 0.2)) && l.color == Color{0, 255, 255, 255};
                           }),
             1);
+}
+
+// A pocket is one red point owned by it on its top: at the top's centre when
+// bare, at the centre of its uncovered part when partly covered; none when
+// covered beyond its threshold or held.
+TEST(LedMedium, IndexesVisiblePocketsOnTheirUncoveredTop) {
+  auto pocket = [](const std::string& id, const std::string& position) {
+    return "<pocket id=\"" + id + "\"><body position=\"" + position + "\"/></pocket>";
+  };
+  auto sim = LoadXml(Experiment(pocket("low", "1,1,0") + pocket("half", "1.06,1,0.05") +
+                                    pocket("bare", "-1,1,0") + pocket("held", "-1,-1,0"),
+                                kControllers, "4,4,1", kMedia));
+  Space& space = sim->space();
+  const uint32_t held = space.Find("held").index;
+  space.Get<PocketState>(held)->holder = 0;
+  sim->Step();
+  const auto& leds = LedIndex(*sim)->leds();
+  const Color red{255, 0, 0, 255};
+  auto at = [&](const std::string& id, const Vec3& p) {
+    const uint32_t owner = space.Find(id).index;
+    return std::count_if(leds.begin(), leds.end(), [&](const LedMedium::Led& l) {
+      return l.owner == owner && Near(l, p) && l.color == red;
+    });
+  };
+  ASSERT_EQ(leds.size(), 3u);
+  EXPECT_EQ(at("bare", Vec3(-1, 1, 0.015)), 1);
+  EXPECT_EQ(at("half", Vec3(1.06, 1, 0.03)), 1);  // settled on "low"
+  EXPECT_EQ(at("low", Vec3(0.97, 1, 0.015)), 1);  // its bare half's centre
+  // Covered entirely: gone.
+  space.pose(space.Find("half").index).position = Vec3(1, 1, 0.1);
+  SettlePocket(space, space.Find("half").index);
+  sim->Step();
+  EXPECT_EQ(LedIndex(*sim)->leds().size(), 2u);
 }
 
 TEST(LedMedium, OnlyLitLedsAreIndexedAndTheyFollowTheRobot) {

@@ -425,9 +425,6 @@ void AddGrid(const Space& space, double spacing, SceneBatch& batch) {
   }
 }
 
-// Radius a landmark post is drawn with (m): it has no shape of its own.
-constexpr float kLandmarkRadius = 0.03f;
-
 void AddLaserSpots(const Simulation& sim, SceneBatch& batch, bool beams) {
   const Space& space = sim.space();
   const Color red{255, 0, 0, 255};
@@ -474,12 +471,13 @@ void SceneBuilder::AddEntity(uint32_t slot, SceneBatch& batch, Detail detail) co
                leds, ring, detail);
     return;
   } else if (space.TypeLabel(space.type(slot)) == "landmark") {
-    // A post (it has no collision shape): thin, in its colour; a black
-    // landmark is one cameras do not see, so it is not drawn.
+    // A post in its colour; a black landmark is one cameras do not see,
+    // so it is not drawn.
     const Color c = space.color(slot);
     if ((c.r | c.g | c.b) == 0) return;
-    p.Cylinder(0, 0, 0, static_cast<float>(space.geometry(slot).height()), kLandmarkRadius,
-               detail == Detail::kFine ? 16 : 8, space.color(slot));
+    p.Cylinder(0, 0, 0, static_cast<float>(space.geometry(slot).height()),
+               static_cast<float>(space.geometry(slot).radius), detail == Detail::kFine ? 16 : 8,
+               space.color(slot));
     return;
   } else if (space.light(slot)) {
     p.Ball(Vec3f::Zero(), kLightBallRadius, leds.empty() ? space.color(slot) : leds[0]);

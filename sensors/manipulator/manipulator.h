@@ -1,5 +1,5 @@
 // Manipulator sensor (control interface): where the marXbot's construction
-// manipulator is (head elevation and rotation), the state of its magnet,
+// manipulator is (head elevation, rotation and tilt), the state of its magnet,
 // whether it holds something, and the 6 IR proximity sensors on the head's
 // IR side (the side opposite the magnet).
 #pragma once
@@ -21,6 +21,9 @@ class ManipulatorSensor : public Sensor {
   double elevation() const { return elevation_; }
   // Head rotation, counter-clockwise from "magnet side to the front", in (-pi, pi] (rad).
   double rotation() const { return rotation_; }
+  // Head pitch about its horizontal axis (rad): 0 upright, > 0 the magnet face
+  // turned down (pi/2: looking straight down), < 0 the IR face turned down.
+  double tilt() const { return tilt_; }
   // Magnet: 0 disengaged .. 1 engaged (it switches over about 1 s).
   double magnet() const { return magnet_; }
   // Fully engaged: it holds a ferromagnetic face it touches.
@@ -31,7 +34,7 @@ class ManipulatorSensor : public Sensor {
   const std::vector<Reading>& readings() const { return readings_; }
 
  protected:
-  double elevation_ = 0, rotation_ = 0, magnet_ = 0;
+  double elevation_ = 0, rotation_ = 0, tilt_ = 0, magnet_ = 0;
   bool holding_ = false;
   std::vector<Reading> readings_;
 };

@@ -10,7 +10,9 @@
 // (-37.5 .. +37.5 degrees from the face's normal), horizontally, at the
 // height of the head's centre. Each casts one horizontal ray against the
 // footprints of the solid entities whose height span contains the ray's
-// height. The robot's own body blocks a ray (with the magnet to the front
+// height. Once the head is tilted, the rays pitch with it: each is cast in
+// 3D against the upright prisms of those footprints (their height spans);
+// the floor is not seen. The robot's own body blocks a ray (with the magnet to the front
 // the IR side faces the body) but is not seen; the object the magnet holds
 // is ignored. As for the base's proximity ring, the reading falls with the
 // distance d to the nearest hit:
@@ -41,11 +43,36 @@ constexpr double IrOffset(int i) { return (i - 0.5 * (kIrCount - 1)) * kIrSpacin
 // Farthest a sensor is from the IR face's centre (for culling).
 constexpr double kIrReach = 0.5 * marxbot::kHeadWidth;
 
+// Distance along the ray o + t d (d of unit length, in 3D) to the upright
+// prism of a footprint between heights z0 and z1 (0 when o is inside,
+// kNoHit when missed): the ray's stretch within the height span, then the
+// first point of that stretch over the (convex) footprint.
+double RayPrism(const Vec3& o, const Vec3& d, const Pose& pose, const Geometry& g, double z0,
+                double z1) {
+  double t0 = 0, t1 = kNoHit;
+  if (std::abs(d.z()) < 1e-12) {
+    if (o.z() < z0 || o.z() >= z1) return kNoHit;
+  } else {
+    const double a = (z0 - o.z()) / d.z(), b = (z1 - o.z()) / d.z();
+    t0 = std::max(t0, std::min(a, b));
+    t1 = std::min(t1, std::max(a, b));
+    if (t0 > t1) return kNoHit;
+  }
+  const double horizontal = d.head<2>().norm();
+  const Vec2 start = o.head<2>() + t0 * d.head<2>();
+  if (horizontal < 1e-12) return CircleOverlapsFootprint(start, 1e-9, pose, g) ? t0 : kNoHit;
+  const double along = RayFootprint(start, d.head<2>() / horizontal, pose, g);
+  if (along == kNoHit) return kNoHit;
+  const double t = t0 + along / horizontal;
+  return t <= t1 ? t : kNoHit;
+}
+
 struct ManipulatorSensorInstance : ManipulatorSensor, InstanceBase {
   using Interface = ManipulatorSensor;
   void SetJoints(const ManipulatorState& m) {
     elevation_ = m.elevation;
     rotation_ = m.rotation;
+    tilt_ = m.tilt;
     magnet_ = m.magnet;
     holding_ = m.holding();
   }
@@ -95,6 +122,10 @@ class ManipulatorSensorSystem : public SensorSystem {
       // only into engines whose model simulates the manipulator.
       Pose head;
       if (!sim().Anchor(s.robot, ManipulatorState::kHeadAnchor, head)) continue;
+      if (m.tilt != 0) {
+        TiltedRays(space, s, m, head, near);
+        continue;
+      }
       // The IR face: its centre, and the directions along its normal and
       // its width, in the horizontal plane.
       const Vec3 magnet = head.orientation * Vec3::UnitX();
@@ -146,11 +177,67 @@ class ManipulatorSensorSystem : public SensorSystem {
       if (!s.alive) continue;
       const double joints[4] = {s.elevation(), s.rotation(), s.magnet(), s.holding() ? 1.0 : 0.0};
       h.Add(joints, sizeof joints);
+      // As in ManipulatorState: runs that never tilt keep their hashes.
+      if (s.tilt() != 0) {
+        const double tilt = s.tilt();
+        h.Add(&tilt, sizeof tilt);
+      }
       h.Add(s.readings().data(), s.readings().size() * sizeof(ManipulatorSensor::Reading));
     }
   }
 
  private:
+  // The 6 rays of a tilted head, in 3D: from the IR face (its normal the
+  // head's -x axis, the sensors along its -y axis) fanned about that normal
+  // in the face's plane, against the prisms of the solid footprints near
+  // the face whose height spans the rays can reach.
+  void TiltedRays(const Space& space, ManipulatorSensorInstance& s, const ManipulatorState& m,
+                  const Pose& head, std::vector<uint32_t>& near) const {
+    const uint32_t self = s.robot.index;
+    const Vec3 normal = head.orientation * -Vec3::UnitX();
+    const Vec3 across = head.orientation * -Vec3::UnitY();
+    const Vec3 face = head.position + 0.5 * marxbot::kHeadDepth * normal;
+    const double reach = kIrReach + range_;
+    near.clear();
+    space.Gather(face.x() - reach, face.y() - reach, face.x() + reach, face.y() + reach, near);
+    size_t kept = 0;
+    for (uint32_t o : near) {
+      if (o == self || o == m.held) continue;
+      const Vec3& op = space.pose(o).position;
+      const Geometry& og = space.geometry(o);
+      if (op.z() > face.z() + reach || op.z() + og.height() < face.z() - reach) continue;
+      const double limit = reach + og.BoundingRadius() + 1e-6;
+      if ((op.head<2>() - face.head<2>()).squaredNorm() >= limit * limit) continue;
+      near[kept++] = o;
+    }
+    near.resize(kept);
+    const Pose& pose = space.pose(self);
+    const Geometry& body = space.geometry(self);
+    auto& readings = s.mutable_readings();
+    for (int i = 0; i < kIrCount; ++i) {
+      double value = 0;
+      if (!near.empty()) {
+        const Vec3 dir = std::cos(IrAngle(i)) * normal + std::sin(IrAngle(i)) * across;
+        const Vec3 origin = face + IrOffset(i) * across;
+        double best = kNoHit;
+        for (uint32_t o : near) {
+          const Pose& op = space.pose(o);
+          const double bottom = op.position.z(), top = bottom + space.geometry(o).height();
+          best = std::min(best, RayPrism(origin, dir, op, space.geometry(o), bottom, top));
+        }
+        // What lies behind the robot's own body is hidden.
+        if (best <= range_ && RayPrism(origin, dir, pose, body, pose.position.z(),
+                                       pose.position.z() + body.height()) > best) {
+          value = std::min(1.0, 0.01 / std::max(best, 1e-6));
+        }
+      }
+      if (noise_.enabled()) {
+        value = noise_.Drop(s.rng) ? 0.0 : std::clamp(noise_.Apply(value, s.rng), 0.0, 1.0);
+      }
+      readings[i].value = static_cast<float>(value);
+    }
+  }
+
   double range_ = 0.1;
   NoiseModel noise_;
   InstanceStore<ManipulatorSensorInstance> instances_;

@@ -67,6 +67,11 @@ COLONY_REGISTER_ENGINE(ManipulatorDoubleEngine, "manipulator_sensor_double",
 COLONY_REGISTER_PHYSICS_MODEL(DoubleMarxbotModel, "manipulator_sensor_double:marxbot",
                               "test double", (std::vector<std::string>{"drive", "manipulator"}));
 COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:cube", "test double", {});
+// An engine whose marXbot model does not simulate the manipulator.
+COLONY_REGISTER_ENGINE(ManipulatorDoubleEngine, "manipulator_sensor_none",
+                       "test double: simulates no manipulator", {});
+COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_none:marxbot", "test double",
+                              (std::vector<std::string>{"drive"}));
 COLONY_REGISTER_PHYSICS_MODEL(DoubleModel, "manipulator_sensor_double:box", "test double", {});
 
 // Sends the commands in its public fields and copies what the sensor read.
@@ -352,17 +357,15 @@ TEST(ManipulatorSensor, RobotsAndEnginesThatCannotCarryItAreRejected) {
                            "4,4,1", "", kDouble));
   ExpectMentions(no_arm, {"<manipulator>: robot 'r' (a marxbot", "cannot carry this sensor",
                           "declare the marxbot with manipulator=\"true\""});
-  const std::string k2d =
+  const std::string none =
       LoadError(Experiment(Robot("r", "0,0,0"),
                            "<manipulator_probe id=\"mp\"><sensors><manipulator/></sensors>"
                            "</manipulator_probe>",
-                           "4,4,1", "", "<kinematics2d id=\"k2d\"/>"));
-  ExpectMentions(
-      k2d, {"<manipulator>: robot 'r' (a marxbot", "cannot carry this sensor",
-            "its physics engine (kinematics2d 'k2d') does not simulate the manipulator "
-            "of a marxbot; use " +
-                std::string(testing::HaveEngine("dynamics3d") ? "dynamics3d"
-                                                              : "manipulator_sensor_double")});
+                           "4,4,1", "", "<manipulator_sensor_none id=\"n\"/>"));
+  ExpectMentions(none, {"<manipulator>: robot 'r' (a marxbot", "cannot carry this sensor",
+                        "its physics engine (manipulator_sensor_none 'n') does not simulate the "
+                        "manipulator of a marxbot; use ",
+                        "manipulator_sensor_double"});
 }
 
 TEST(ManipulatorSensor, BadAttributesAreReportedWithElementAndLine) {

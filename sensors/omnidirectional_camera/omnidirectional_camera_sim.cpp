@@ -152,7 +152,8 @@ std::vector<AttributeDoc> CameraAttributes() {
 
 COLONY_REGISTER_SENSOR(
     CameraSystem, "omnidirectional_camera", "default",
-    "coloured blobs around the robot (other entities' lit LEDs, landmarks), each with its "
+    "coloured blobs around the robot (other entities' lit LEDs, landmarks, visible pockets, laser "
+    "spots), each with its "
     "colour, distance and bearing in the robot's frame",
     CameraAttributes());
 

@@ -275,9 +275,11 @@ TEST(OmnidirectionalCamera, RangeLimitIsExact) {
 TEST(OmnidirectionalCamera, ApertureHidesBlobsTooHighOrTooLow) {
   // Camera at 0.288 m. A light 2 m up, 0.3 m away: 80 degrees above the
   // camera's plane. A 2 cm landmark (centre 1 cm up) 0.1 m away: 70.2
-  // degrees below. Both outside the default 70 degrees; inside 85.
+  // degrees below (a thin one: landmarks are solid). Both outside the
+  // default 70 degrees; inside 85.
   const std::string arena = "<light id=\"high\" position=\"0.3,0,2\"/>" + Robot("eye", 0, 0) +
-                            Robot("eye2", 0, 2) + Landmark("low", 0.1, 2, "height=\"0.02\"");
+                            Robot("eye2", 0, 2) +
+                            Landmark("low", 0.1, 2, "height=\"0.02\" radius=\"0.01\"");
   auto sim = LoadXml(Experiment(arena, Controllers(), "6,6,1"));
   sim->Step();
   EXPECT_TRUE(Blobs(*sim, "eye").empty());
