@@ -2,11 +2,10 @@
 // construction manipulator. Its head moves up and down (elevation), turns
 // about the vertical axis (rotation) and pitches about its horizontal axis
 // (tilt); one side of the head carries a switchable magnet that holds light
-// ferromagnetic objects (construction cubes, pockets), the opposite side 6 IR
-// proximity sensors (sensors/manipulator).
-// Commands are targets: the head moves towards them at its own speeds and
-// the magnet takes about 1 s to switch over; read where it is and whether it
-// holds something with the manipulator sensor.
+// ferromagnetic objects (construction cubes in dynamics3d, pockets in the 2D engines), the opposite
+// side 6 IR proximity sensors (sensors/manipulator). Commands are targets: the head moves towards
+// them at its own speeds and the magnet takes about 1 s to switch over; read where it is and
+// whether it holds something with the manipulator sensor.
 #pragma once
 
 #include <cmath>

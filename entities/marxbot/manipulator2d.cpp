@@ -6,6 +6,8 @@
 
 #include "actuators/manipulator/manipulator_state.h"
 #include "core/geometry2d.h"
+#include "core/log.h"
+#include "core/placement.h"
 #include "entities/marxbot/marxbot.h"
 #include "entities/objects/pocket.h"
 
@@ -75,7 +77,7 @@ void Manipulator2d::Leaving(Space& space, uint32_t s, const CarriedHook& carried
   auto it = std::lower_bound(slots_.begin(), slots_.end(), s);
   if (it != slots_.end() && *it == s) {
     ManipulatorState& m = *space.Get<ManipulatorState>(s);
-    if (m.holding()) Drop(space, s, m, carried);
+    if (m.holding()) Drop(space, s, m, carried, true);
     slots_.erase(it);
     return;
   }
@@ -94,7 +96,8 @@ void Manipulator2d::Step(Space& space, double dt, const CarriedHook& carried) {
     MoveHead(m, dt);
     SwitchMagnet(m, dt);
     if (m.magnet < 1.0) {
-      if (m.holding()) Drop(space, s, m, carried);
+      // A pocket that cannot fall clear yet stays on the magnet.
+      if (m.holding() && !Drop(space, s, m, carried, false)) CarryAlong(space, s, m, dt);
       continue;
     }
     if (!m.holding()) Grab(space, s, m, carried);
@@ -124,7 +127,8 @@ void Manipulator2d::Grab(Space& space, uint32_t s, ManipulatorState& m,
   double best_gap = marxbot::kMagnetReach;
   for (uint32_t o : near_) {
     const PocketState* p = space.Get<PocketState>(o);
-    if (!p || p->holder != PocketState::kNobody) continue;
+    // Not held, and nothing resting on it (a pocket under a heap stays).
+    if (!p || p->holder != PocketState::kNobody || p->occlusion > 0) continue;
     const Pose& pose = space.pose(o);
     const Geometry& g = space.geometry(o);
     const double gap = std::abs(face.z() - (pose.position.z() + g.height()));
@@ -164,25 +168,53 @@ void Manipulator2d::CarryAlong(Space& space, uint32_t s, const ManipulatorState&
   space.twist(m.held).angular = space.twist(s).angular;
 }
 
-// Lets the held pocket go where it is (pushed ahead, clear of the robot's
-// body, if it would overlap it) and settles it on the heap.
-void Manipulator2d::Drop(Space& space, uint32_t s, ManipulatorState& m,
-                         const CarriedHook& carried) {
+// Lets the held pocket go where it is (pushed out from the robot's axis until
+// clear of its body, if it would overlap it) and settles it on the heap. A
+// pocket that would land on another robot, a wall or any solid thing but
+// pockets stays on the magnet, which lets it go once the robot has moved
+// clear (a warning the first time).
+bool Manipulator2d::Drop(Space& space, uint32_t s, ManipulatorState& m, const CarriedHook& carried,
+                         bool forced) {
   const uint32_t held = m.held;
+  const Pose& robot = space.pose(s);
+  const double radius = space.geometry(s).radius;
+  const Geometry& g = space.geometry(held);
+  Pose pose = space.pose(held);
+  Vec2 out = pose.position.head<2>() - robot.position.head<2>();
+  out = out.norm() > 1e-9 ? Vec2(out.normalized())
+                          : Vec2((robot.orientation * Vec3::UnitX()).head<2>().normalized());
+  for (int k = 0; k < 60 && CircleOverlapsFootprint(robot.position.head<2>(), radius, pose, g); ++k)
+    pose.position.head<2>() += 0.005 * out;
+  if (!forced) {
+    const Vec2 half = FootprintHalfExtents(g, pose.orientation);
+    const Vec2 c = pose.position.head<2>();
+    near_.clear();
+    space.Gather(c.x() - half.x(), c.y() - half.y(), c.x() + half.x(), c.y() + half.y(), near_);
+    const Vec3& lo = space.arena_min();
+    const Vec3& hi = space.arena_max();
+    bool blocked = c.x() - half.x() < lo.x() || c.y() - half.y() < lo.y() ||
+                   c.x() + half.x() > hi.x() || c.y() + half.y() > hi.y();
+    for (uint32_t o : near_) {
+      if (blocked) break;
+      if (o == held || o == s || space.Get<PocketState>(o)) continue;
+      blocked = FootprintsOverlap(pose, g, space.pose(o), space.geometry(o));
+    }
+    if (blocked) {
+      if (!carry_[s].warned) {
+        carry_[s].warned = true;
+        LogWarning("robot '" + space.id(s) + "': the magnet let go of pocket '" + space.id(held) +
+                   "' over something solid that is not a pocket (a robot, a wall, a landmark); "
+                   "it stays on the magnet until it can fall clear (said once per robot)");
+      }
+      return false;
+    }
+  }
   m.held = kNone;
   carried(held, false);
-  PocketState* p = space.Get<PocketState>(held);
-  if (!p) return;
-  p->holder = PocketState::kNobody;
-  const Pose& robot = space.pose(s);
-  const Vec2 ahead = (robot.orientation * Vec3::UnitX()).head<2>().normalized();
-  const double radius = space.geometry(s).radius;
-  Pose& pose = space.pose(held);
-  for (int k = 0; k < 40 && CircleOverlapsFootprint(robot.position.head<2>(), radius, pose,
-                                                    space.geometry(held));
-       ++k)
-    pose.position.head<2>() += 0.005 * ahead;
+  space.pose(held) = pose;
+  if (PocketState* p = space.Get<PocketState>(held)) p->holder = PocketState::kNobody;
   SettlePocket(space, held);
+  return true;
 }
 
 }  // namespace colony

@@ -52,11 +52,14 @@ class Manipulator2d {
   struct Carry {
     Vec2 offset = Vec2::Zero();  // of the pocket's centre from the face's centre (m)
     double yaw = 0;              // pocket's heading minus the robot's (rad)
+    bool warned = false;         // about a drop onto something solid
   };
 
   void Grab(Space& space, uint32_t s, ManipulatorState& m, const CarriedHook& carried);
   void CarryAlong(Space& space, uint32_t s, const ManipulatorState& m, double dt) const;
-  static void Drop(Space& space, uint32_t s, ManipulatorState& m, const CarriedHook& carried);
+  // Returns false, holding on, when the pocket would land on something solid
+  // other than pockets (unless `forced`: the robot is going away).
+  bool Drop(Space& space, uint32_t s, ManipulatorState& m, const CarriedHook& carried, bool forced);
 
   std::vector<uint32_t> slots_;  // robots with a manipulator, in slot order
   std::vector<Carry> carry_;     // per space slot

@@ -41,8 +41,8 @@ struct PocketState {
   uint32_t holder = kNobody;
   // Whether it has been put down since it was added (SettlePocket): a pocket
   // added by the file or by loop functions is still pending until
-  // SettlePendingPockets puts it down. Not hashed: pending only before the
-  // first tick's media update.
+  // SettlePendingPockets puts it down. Not hashed: pending only until the
+  // simulation has added it (EntityType::Placed).
   bool settled = false;
   bool visible() const { return occlusion <= threshold; }
   void Hash(StateHasher& h) const {
@@ -65,9 +65,9 @@ void UpdatePocketOcclusion(Space& space);
 // Puts down every pocket added since the last call (pending, not held),
 // lowest declared height first (then slot), each as SettlePocket does, then
 // updates every occlusion; returns how many. Costs a scan of the pockets
-// when none is pending (none at all: nothing). The LED medium calls it at
-// each update, so pockets of the file and of loop functions are settled before
-// any sensor reads them.
+// when none is pending (none at all: nothing). The pocket entity type calls
+// it once the arena is built and whenever a pocket is added while running
+// (EntityType::Placed), so pockets are settled before anything reads them.
 int SettlePendingPockets(Space& space);
 
 }  // namespace colony

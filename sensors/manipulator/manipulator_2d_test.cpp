@@ -279,6 +279,53 @@ TEST(Manipulator2d, TheMagnetHoldsOnlyAPocketItLiesOn) {
   EXPECT_TRUE(probe.sensor->holding());
 }
 
+TEST(Manipulator2d, APocketUnderAnotherIsNotPulledOutOfTheHeap) {
+  auto sim = Load(Robot("r", "-0.6,0,0") + Pocket("p", "-0.478,0,0") +
+                  "<pocket id=\"top\"><body position=\"-0.478,0,0.1\" orientation=\"90,0,0\"/>"
+                  "</pocket>");
+  ASSERT_NEAR(testing::PositionOf(*sim, "top").z(), pocket::kThickness, 1e-9);
+  PocketArmProbe& probe = Probe(*sim);
+  probe.tilt = M_PI / 2;
+  probe.magnet = true;
+  testing::RunFor(*sim, 4.0);  // the face down on the lower pocket's top, inside the upper one
+  EXPECT_FALSE(probe.sensor->holding()) << "the lower pocket has another on it";
+  probe.elevation = 0.03 + pocket::kThickness;
+  testing::RunFor(*sim, 1.0);
+  ASSERT_TRUE(probe.sensor->holding());
+  EXPECT_EQ(PocketOf(*sim, "top").holder, sim->space().Find("r").index);
+}
+
+TEST(Manipulator2d, APocketOverAnotherRobotStaysOnTheMagnetUntilItCanFallClear) {
+  auto sim = Load(Robot("r", "-0.6,0,0") + Pocket("p", "-0.478,0,0") + Robot("o", "0,0,0"));
+  PocketArmProbe& probe = Probe(*sim);
+  PocketArmProbe& other = Probe(*sim, "o");
+  probe.tilt = M_PI / 2;
+  probe.magnet = true;
+  ASSERT_TRUE(RunUntil(*sim, 4, [&] { return probe.sensor->holding(); }));
+  probe.elevation = 0.1;
+  testing::RunFor(*sim, 2.0);
+  // Into the other robot: the pocket hangs over it.
+  probe.speed = 0.1;
+  testing::RunFor(*sim, 5.0);
+  probe.speed = 0;
+  ::testing::internal::CaptureStderr();
+  probe.magnet = false;
+  testing::RunFor(*sim, 2.0);
+  const std::string log = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(PocketOf(*sim, "p").holder, PocketState::kNobody) << "not dropped onto the robot";
+  EXPECT_NE(log.find("stays on the magnet until it can fall clear"), std::string::npos) << log;
+  // Backing away, it falls clear, and the other robot can drive on.
+  probe.speed = -0.1;
+  testing::RunFor(*sim, 2.0);
+  probe.speed = 0;
+  EXPECT_EQ(PocketOf(*sim, "p").holder, PocketState::kNobody);
+  EXPECT_NEAR(testing::PositionOf(*sim, "p").z(), 0.0, 1e-9);
+  const double before = testing::PositionOf(*sim, "o").x();
+  other.speed = 0.1;
+  testing::RunFor(*sim, 2.0);
+  EXPECT_GT(testing::PositionOf(*sim, "o").x(), before + 0.15) << "not stuck on the pocket";
+}
+
 TEST(Manipulator2d, ResultsDoNotDependOnTheThreadCount) {
   std::vector<uint64_t> hashes;
   for (int threads : {1, 2}) hashes.push_back(PickUpCarryDrop("", threads).sim->StateHash());
