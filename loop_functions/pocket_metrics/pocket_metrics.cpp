@@ -156,8 +156,26 @@ class PocketMetrics : public LoopFunctions {
                            "not all at one place, to form a boundary (found " +
                            std::to_string(points.size()) + ")");
     }
+    // Seed 004's boundary is straight (3.1): every template landmark lies on
+    // the line (within the landmark's own size).
+    for (size_t i = 0; i < points.size(); ++i) {
+      const double off = std::abs(frame->ToFrame(points[i]).y());
+      if (off > kStraightTolerance) {
+        throw ParamError(key, params.GetString(key, "template"),
+                         "parameter '" + key +
+                             "': the template landmarks do not form a straight "
+                             "boundary: landmark " +
+                             std::to_string(i + 1) + " of " + std::to_string(points.size()) +
+                             " lies " + std::to_string(off) +
+                             " m off the line through them (at most " +
+                             std::to_string(kStraightTolerance) + " m)");
+      }
+    }
     frame_ = *frame;
   }
+
+  // How far (m) a template landmark may lie off the boundary's line.
+  static constexpr double kStraightTolerance = 0.05;
 
   void ReadReservoirs(const Params& params) {
     const std::string text = params.GetString("reservoirs", "");

@@ -243,6 +243,9 @@ TEST(pocket_metrics, BadParametersAreRefusedNamingThem) {
   EXPECT_TRUE(
       Mentions(LoadError(Arena(one, "occlusion_threshold=\"120\"")), {"occlusion_threshold"}));
   EXPECT_TRUE(Mentions(LoadError(Arena("", "")), {"reservoirs", "no pockets"}));
+  // An L of landmarks is no straight boundary.
+  EXPECT_TRUE(Mentions(LoadError(Arena(one, "template=\"template_0,template_3,res_b\"")),
+                       {"template", "do not form a straight boundary", "off the line"}));
 }
 
 TEST(pocket_metrics, RegisteredParametersMatchTheReadme) {
