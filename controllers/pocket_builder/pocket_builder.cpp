@@ -1,0 +1,616 @@
+// pocket_builder: seed 004's barrier construction with deformable pockets,
+// one marXbot (section 3.4): the seven behaviours explore, goto-reservoir,
+// approach, pick-up, goto-structure, deploy and drop, with odometry
+// navigation in the robot's own template frame (3.4.1) and visual navigation
+// in the instantaneous coordinate system (3.4.2), and the two stochastic
+// deposition rules (eq. 3.3 and 3.5, deposition.h).
+//
+// No ground truth: the robot reads its wheel encoders (odometry), the
+// omnidirectional camera (green landmark and red pocket blobs), the proximity
+// ring (walls, landmarks) and the manipulator sensor (IR readings, tilt,
+// rotation, holding). Template landmarks are told from reservoir landmarks by
+// their spacing (`template_spacing`, `reservoir_spacing`): the camera gives
+// every landmark the same colour. README.md has the parameters.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "actuators/differential_steering/differential_steering.h"
+#include "actuators/manipulator/manipulator.h"
+#include "controllers/common/steering.h"
+#include "controllers/pocket_builder/deposition.h"
+#include "core/registry.h"
+#include "sensors/manipulator/manipulator.h"
+#include "sensors/omnidirectional_camera/omnidirectional_camera.h"
+#include "sensors/proximity/proximity.h"
+#include "sensors/wheel_encoders/wheel_encoders.h"
+
+namespace colony::pocket_builder {
+namespace {
+
+double Wrap(double a) { return std::remainder(a, 2 * M_PI); }
+
+constexpr double kBodyRadius = 0.085;  // m: the marXbot's body, where its proximity ring sits
+
+// What the camera shows this tick, in the body frame.
+struct View {
+  std::vector<Point> landmarks, pockets;
+  // The structure region: two landmarks `template_spacing` apart in view.
+  bool structure = false;
+  InstantFrame frame;             // of the nearest boundary line
+  double ahead_min = 0, ahead_max = 0;  // extent of the visible template along y_p
+  std::vector<Point> pockets_p;   // visible pockets in the instantaneous frame
+  // The reservoir region: two landmarks `reservoir_spacing` apart.
+  bool reservoir = false;
+  Point res_a, res_b;
+  bool res_pocket = false;  // a pocket between them
+  Point pocket;
+};
+
+enum class Behaviour { kExplore, kGotoReservoir, kApproach, kPickUp, kGotoStructure, kDeploy, kDrop };
+
+class PocketBuilder : public Controller {
+ public:
+  void Init(const Params& params) override {
+    speed_ = params.GetDouble("speed", 0.1, 0.01, 0.3);
+    slow_ = params.GetDouble("slow_speed", 0.05, 0.01, 0.3);
+    tick_ = params.GetDouble("tick", 0.1, 1e-3, 1);
+    template_spacing_ = params.GetDouble("template_spacing", 0.333, 0.05, 5);
+    reservoir_spacing_ = params.GetDouble("reservoir_spacing", 0.24, 0.05, 5);
+    spacing_tolerance_ = params.GetDouble("spacing_tolerance", 0.04, 0, 1);
+    path_distance_ = params.GetDouble("path_distance", 0.35, 0.1, 2);
+    end_margin_ = params.GetDouble("end_margin", 0.0, -1, 1);
+    k1_ = params.GetDouble("k1", 0.02, 0, 1);
+    alpha_ = params.GetDouble("alpha", 0.5, 0, 100);
+    delta1_ = params.GetDouble("delta1", 0.08, 0, 2);
+    height_reading_ = params.GetDouble("height_reading", 0.15, 0, 1);
+    max_inhibitions_ = static_cast<int>(params.GetInt("max_inhibitions", 3, 0, 1000000));
+    k2_ = params.GetDouble("k2", 0.2, 0, 1);
+    sigma_ = params.GetDouble("sigma", 0.03, 1e-4, 1);
+    delta2_ = params.GetDouble("delta2", 0.06, 0, 2);
+    d_m_ = params.GetDouble("manipulator_distance", 0.12, 0, 0.5);
+    force_distance_ = params.GetDouble("force_distance", 0.17, 0, 1);
+    approach_distance_ = params.GetDouble("approach_distance", 0.3, 0.15, 1);
+    pickup_distance_ = params.GetDouble("pickup_distance", 0.2, 0.05, 1);
+    carry_elevation_ = params.GetDouble("carry_elevation", 0.1, 0.03, 0.2);
+    goto_timeout_ = params.GetDouble("goto_timeout", 60, 1, 1e6);
+    lost_time_ = params.GetDouble("lost_time", 2, 0, 1e6);
+    walk_.Configure(speed_, params.GetDouble("turn_probability", 0.05, 0, 1),
+                    static_cast<int>(params.GetInt("turn_ticks", 20, 1, 1000000)));
+    camera_ = &GetSensor<OmnidirectionalCamera>("omnidirectional_camera");
+    encoders_ = &GetSensor<WheelEncoders>("wheel_encoders");
+    arm_ = &GetSensor<ManipulatorSensor>("manipulator");
+    wheels_ = &GetActuator<DifferentialSteering>("differential_steering");
+    manipulator_ = &GetActuator<ManipulatorActuator>("manipulator");
+    proximity_ = &GetSensor<ProximitySensor>("proximity");
+    obstacle_.Bind(*proximity_);
+    Carry();
+  }
+
+  void ControlStep() override {
+    Odometry();
+    Look();
+    switch (behaviour_) {
+      case Behaviour::kExplore: Explore(); break;
+      case Behaviour::kGotoReservoir: GotoReservoir(); break;
+      case Behaviour::kApproach: Approach(); break;
+      case Behaviour::kPickUp: PickUp(); break;
+      case Behaviour::kGotoStructure: GotoStructure(); break;
+      case Behaviour::kDeploy: Deploy(); break;
+      case Behaviour::kDrop: Drop(); break;
+    }
+  }
+
+ private:
+  // --- Sensing -------------------------------------------------------------
+
+  // Dead reckoning from the wheel encoders, in the template frame (3.4.1).
+  void Odometry() {
+    const double dl = encoders_->distance_left(), dr = encoders_->distance_right();
+    forward_ = 0.5 * (dl + dr);
+    const double dpsi = (dr - dl) / encoders_->wheel_base();
+    x_ += forward_ * std::cos(psi_ + 0.5 * dpsi);
+    y_ += forward_ * std::sin(psi_ + 0.5 * dpsi);
+    psi_ = Wrap(psi_ + dpsi);
+  }
+
+  bool Near(double a, double b) const { return std::abs(a - b) <= spacing_tolerance_; }
+
+  void Look() {
+    View& v = view_;
+    v.landmarks.clear();
+    v.pockets.clear();
+    v.pockets_p.clear();
+    for (const auto& b : camera_->blobs()) {
+      if (b.green > 128 && b.red < 100 && b.blue < 100) {
+        v.landmarks.push_back(FromPolar(b.distance, b.bearing));
+      } else if (b.red > 128 && b.green < 100 && b.blue < 100) {
+        v.pockets.push_back(FromPolar(b.distance, b.bearing));
+      }
+    }
+    v.structure = v.reservoir = v.res_pocket = false;
+    double best_template = 1e9, best_reservoir = 1e9;
+    const auto& l = v.landmarks;
+    std::vector<bool> in_template(l.size(), false);
+    for (size_t i = 0; i < l.size(); ++i) {
+      for (size_t j = i + 1; j < l.size(); ++j) {
+        const double sep = std::hypot(l[i].x - l[j].x, l[i].y - l[j].y);
+        const double mid = std::hypot(0.5 * (l[i].x + l[j].x), 0.5 * (l[i].y + l[j].y));
+        if (Near(sep, template_spacing_)) {
+          in_template[i] = in_template[j] = true;
+          if (mid < best_template) {
+            best_template = mid;
+            v.structure = true;
+            v.frame = FrameOfLine(l[i], l[j]);
+          }
+        } else if (Near(sep, reservoir_spacing_) && mid < best_reservoir) {
+          best_reservoir = mid;
+          v.reservoir = true;
+          v.res_a = l[i];
+          v.res_b = l[j];
+        }
+      }
+    }
+    if (v.structure) {
+      v.ahead_min = 1e9;
+      v.ahead_max = -1e9;
+      for (size_t i = 0; i < l.size(); ++i) {
+        if (!in_template[i]) continue;
+        const double along = v.frame.ToInstant(l[i]).y;
+        v.ahead_min = std::min(v.ahead_min, along);
+        v.ahead_max = std::max(v.ahead_max, along);
+      }
+      for (const Point& q : v.pockets) v.pockets_p.push_back(v.frame.ToInstant(q));
+    }
+    if (v.reservoir) {
+      const Point mid{0.5 * (v.res_a.x + v.res_b.x), 0.5 * (v.res_a.y + v.res_b.y)};
+      double best = 0.5 * reservoir_spacing_;
+      for (const Point& q : v.pockets) {
+        const double d = std::hypot(q.x - mid.x, q.y - mid.y);
+        if (d < best) {
+          best = d;
+          v.res_pocket = true;
+          v.pocket = q;
+        }
+      }
+    }
+  }
+
+  // The robot's heading in the template frame, from the camera: the template
+  // frame's x axis points to the boundary (3.4.1), the body sees it at psi_p.
+  double VisualHeading() const { return -view_.frame.psi_p; }
+
+  // A point of the body frame in the template frame.
+  Point ToTemplate(const Point& b) const {
+    const double c = std::cos(psi_), s = std::sin(psi_);
+    return {x_ + c * b.x - s * b.y, y_ + s * b.x + c * b.y};
+  }
+  // A point of the template frame in the body frame.
+  Point ToBody(const Point& t) const {
+    const double c = std::cos(psi_), s = std::sin(psi_);
+    const double dx = t.x - x_, dy = t.y - y_;
+    return {c * dx + s * dy, -s * dx + c * dy};
+  }
+
+  // (Re)initialises the template frame at the robot's place, its x axis
+  // towards the boundary as the camera sees it; the reservoir location,
+  // known in the old frame, is carried over by odometry (3.4.3, drop).
+  void ResetTemplateFrame() {
+    const Point res_body = ToBody(reservoir_);
+    x_ = y_ = 0;
+    psi_ = VisualHeading();
+    reservoir_ = ToTemplate(res_body);
+    have_template_ = true;
+  }
+
+  // The height inhibition of eq. 3.3: a front sensor of the proximity ring
+  // (6 cm above the floor) sees the structure ahead, so it is higher than
+  // 6 cm there. What the sensor sees is not a template landmark if no
+  // landmark blob lies near the point it reads.
+  bool StructureTooHigh() const {
+    for (const auto& r : proximity_->readings()) {
+      if (std::abs(Wrap(r.angle)) > M_PI / 6 || r.value <= height_reading_) continue;
+      const Point hit = FromPolar(kBodyRadius + 0.01 / r.value, r.angle);
+      bool landmark = false;
+      for (const Point& l : view_.landmarks) {
+        landmark = landmark || std::hypot(l.x - hit.x, l.y - hit.y) < 0.06;
+      }
+      if (!landmark) return true;
+    }
+    return false;
+  }
+
+  bool Blocked() {
+    blocked_ticks_ = forward_ < 0.2 * slow_ * tick_ ? blocked_ticks_ + 1 : 0;
+    return blocked_ticks_ * tick_ > 1.5;
+  }
+
+  // --- Actions -------------------------------------------------------------
+
+  void Stop() { wheels_->SetLinearVelocity(0, 0); }
+
+  // Towards `angle` (body frame), turning away from obstacles the proximity
+  // ring sees ahead.
+  void SteerAvoiding(double angle, double speed) {
+    const swarm::Vector o = obstacle_.Read();
+    if (o.Length() > 0.1 && std::abs(o.Angle()) < M_PI / 2) {
+      angle = o.Angle() + (o.Angle() > 0 ? -M_PI / 2 : M_PI / 2);
+    }
+    swarm::SteerTowards(angle, speed, *wheels_);
+  }
+
+  void GoTo(const Point& target, double speed) {
+    const Point b = ToBody(target);
+    SteerAvoiding(std::atan2(b.y, b.x), speed);
+  }
+
+  // Manipulator postures: carrying (magnet face down, raised) and lying on
+  // the ground to find a pocket (IR side ahead, lowest, tilted 45 degrees).
+  void Carry() {
+    manipulator_->SetIrSide();
+    manipulator_->SetTilt(M_PI / 2);
+    manipulator_->SetElevation(carry_elevation_);
+  }
+  void LieDown() {
+    manipulator_->SetIrSide();
+    manipulator_->SetTilt(-M_PI / 4);
+    manipulator_->SetElevation(manipulator_->min_elevation());
+  }
+  bool LyingDown() const {
+    return std::abs(Wrap(arm_->rotation() - M_PI)) < 0.05 && std::abs(arm_->tilt() + M_PI / 4) < 0.05 &&
+           arm_->elevation() < manipulator_->min_elevation() + 0.005;
+  }
+  double MiddleIr() const {
+    const auto& r = arm_->readings();
+    return r.size() < 4 ? 0.0 : std::max(r[2].value, r[3].value);
+  }
+
+  void Enter(Behaviour b) {
+    behaviour_ = b;
+    phase_ = 0;
+    phase_ticks_ = 0;
+    blocked_ticks_ = 0;
+    lost_ticks_ = 0;
+  }
+  void NextPhase() {
+    ++phase_;
+    phase_ticks_ = 0;
+    blocked_ticks_ = 0;
+  }
+  double PhaseSeconds() const { return phase_ticks_ * tick_; }
+
+  // --- Behaviours (3.4.3) --------------------------------------------------
+
+  // Random walk until both regions have been seen.
+  void Explore() {
+    if (view_.structure && !have_template_) ResetTemplateFrame();
+    if (view_.reservoir && view_.res_pocket && !have_reservoir_) {
+      reservoir_ = ToTemplate(ApproachPoint());
+      have_reservoir_ = true;
+    }
+    if (have_template_ && have_reservoir_) {
+      Enter(arm_->holding() ? Behaviour::kGotoStructure : Behaviour::kGotoReservoir);
+      return;
+    }
+    walk_.Step(obstacle_.Read(), rng(), *wheels_);
+  }
+
+  void GotoReservoir() {
+    if (view_.reservoir && view_.res_pocket) {
+      Enter(Behaviour::kApproach);
+      Approach();
+      return;
+    }
+    ++phase_ticks_;
+    const Point b = ToBody(reservoir_);
+    if (std::hypot(b.x, b.y) < 0.05 || PhaseSeconds() > goto_timeout_) {
+      have_reservoir_ = false;  // not where odometry said: look for it
+      Enter(Behaviour::kExplore);
+      return;
+    }
+    GoTo(reservoir_, speed_);
+  }
+
+  // The point in front of the reservoir's pocket, on the robot's side of the
+  // line through its two landmarks (body frame).
+  Point ApproachPoint() const {
+    const View& v = view_;
+    const double ux = v.res_b.x - v.res_a.x, uy = v.res_b.y - v.res_a.y;
+    const double len = std::hypot(ux, uy);
+    double nx = -uy / len, ny = ux / len;
+    if (nx * -v.pocket.x + ny * -v.pocket.y < 0) {
+      nx = -nx;
+      ny = -ny;
+    }
+    return {v.pocket.x + approach_distance_ * nx, v.pocket.y + approach_distance_ * ny};
+  }
+
+  // Visual navigation to the point in front of the pocket, then towards it
+  // with the manipulator lying on the ground.
+  void Approach() {
+    ++phase_ticks_;
+    if (phase_ == 0) {
+      LieDown();
+      if (!view_.reservoir) {
+        Enter(Behaviour::kGotoReservoir);
+        return;
+      }
+      if (!view_.res_pocket) {
+        Stop();  // the reservoir is waiting for its refill
+        return;
+      }
+      const Point q = ApproachPoint();
+      if (std::hypot(q.x, q.y) < 0.03) {
+        NextPhase();
+        return;
+      }
+      swarm::SteerTowards(std::atan2(q.y, q.x), std::hypot(q.x, q.y) < 0.15 ? slow_ : speed_,
+                          *wheels_);
+      return;
+    }
+    if (phase_ == 1) {  // face the pocket, wait for the manipulator
+      if (!view_.res_pocket) {
+        Enter(Behaviour::kApproach);
+        return;
+      }
+      const double bearing = std::atan2(view_.pocket.y, view_.pocket.x);
+      if (std::abs(bearing) < 0.02 && LyingDown()) {
+        NextPhase();
+        return;
+      }
+      const double turn = std::clamp(bearing / 0.5, -1.0, 1.0) * slow_;
+      wheels_->SetLinearVelocity(-turn, turn);
+      return;
+    }
+    // phase 2: towards the pocket until close enough for the pick-up.
+    if (view_.res_pocket) {
+      const double d = std::hypot(view_.pocket.x, view_.pocket.y);
+      if (d > pickup_distance_) {
+        if (Blocked()) {
+          Retry();
+          return;
+        }
+        swarm::SteerTowards(std::atan2(view_.pocket.y, view_.pocket.x), slow_, *wheels_);
+        return;
+      }
+    }
+    Enter(Behaviour::kPickUp);
+    PickUp();
+  }
+
+  // Forwards until the manipulator's IR sensors see the pocket, on until the
+  // body touches it, then rise onto its top, engage the magnet and lift it.
+  void PickUp() {
+    ++phase_ticks_;
+    switch (phase_) {
+      case 0:  // forwards until the IR sensors see it
+        if (MiddleIr() > 0.5) {
+          NextPhase();
+        } else if (PhaseSeconds() > 8) {
+          Retry();
+        } else {
+          wheels_->SetLinearVelocity(slow_, slow_);
+        }
+        return;
+      case 1:  // creep until touching
+        wheels_->SetLinearVelocity(slow_, slow_);
+        if (PhaseSeconds() >= 1.0) {
+          Stop();
+          manipulator_->SetTilt(M_PI / 2);
+          NextPhase();
+        }
+        return;
+      case 2:  // magnet face down onto the pocket's top
+        Stop();
+        if (arm_->tilt() > M_PI / 2 - 0.02) {
+          manipulator_->EngageMagnet();
+          NextPhase();
+        }
+        return;
+      case 3:  // hold it
+        Stop();
+        if (arm_->holding()) {
+          manipulator_->SetElevation(carry_elevation_);
+          NextPhase();
+        } else if (PhaseSeconds() > 3) {
+          manipulator_->DisengageMagnet();
+          Retry();
+        }
+        return;
+      default:  // lifted: this is the reservoir location
+        Stop();
+        if (PhaseSeconds() > 1.5) {
+          reservoir_ = {x_, y_};
+          have_reservoir_ = true;
+          inhibitions_ = 0;
+          Enter(Behaviour::kGotoStructure);
+        }
+        return;
+    }
+  }
+
+  // A failed pick-up: back off and approach again.
+  void Retry() {
+    Enter(Behaviour::kApproach);
+    wheels_->SetLinearVelocity(-slow_, -slow_);
+    LieDown();
+  }
+
+  // Odometry back to the template frame's origin (the last drop), until the
+  // structure region is in view (two template landmarks).
+  void GotoStructure() {
+    if (!arm_->holding()) {  // lost it on the way
+      Enter(Behaviour::kGotoReservoir);
+      return;
+    }
+    const Point goal{detour_ ? -2 * path_distance_ : 0.0, 0};
+    if (view_.structure && !detour_) {
+      Enter(Behaviour::kDeploy);
+      Deploy();
+      return;
+    }
+    ++phase_ticks_;
+    const Point b = ToBody(goal);
+    if (detour_ && (std::hypot(b.x, b.y) < 0.1 || PhaseSeconds() > goto_timeout_)) {
+      detour_ = false;
+      Enter(Behaviour::kGotoStructure);
+      return;
+    }
+    if (std::hypot(b.x, b.y) < 0.05 || PhaseSeconds() > goto_timeout_) {
+      have_template_ = false;  // not where odometry said: look for it
+      Enter(Behaviour::kExplore);
+      return;
+    }
+    GoTo(goal, speed_);
+  }
+
+  // Along the boundary at path_distance until eq. 3.3 picks the y-position,
+  // then towards the boundary until eq. 3.5 (or the boundary) picks x.
+  void Deploy() {
+    ++phase_ticks_;
+    // The template can vanish for a moment (a heap hides a landmark): carry
+    // on as before for up to lost_time, then look for it again.
+    if (!view_.structure) {
+      if (++lost_ticks_ * tick_ > lost_time_) Enter(Behaviour::kGotoStructure);
+      return;
+    }
+    lost_ticks_ = 0;
+    const InstantFrame& f = view_.frame;
+    // The boundary seen from its far side (the template frame's x axis points
+    // to it from the structure's side): round the end, back by odometry.
+    if (std::cos(psi_ + f.psi_p) < 0) {
+      detour_ = true;
+      Enter(Behaviour::kGotoStructure);
+      return;
+    }
+    const double offset = f.distance - path_distance_;  // > 0: too far from the boundary
+    if (phase_ == 0) {  // onto the path
+      if (std::abs(offset) < 0.03) {
+        direction_ = rng().Bernoulli(0.5) ? 1 : -1;
+        NextPhase();
+      } else {
+        // Towards the path; past an end of the boundary, back along it too.
+        const double vx = std::clamp(offset / 0.1, -1.0, 1.0);
+        const double vy = view_.ahead_max < 0 ? -1.0 : view_.ahead_min > 0 ? 1.0 : 0.0;
+        SteerAvoiding(Wrap(f.psi_p + std::atan2(vy, vx)), speed_);
+      }
+      return;
+    }
+    if (phase_ == 1) {  // along the boundary
+      if (AtEnd()) direction_ = -direction_;  // an end of the boundary: turn around
+      // Eq. 3.3, tried at each step of travel along the path (not while
+      // turning on the spot at an end).
+      const int n_f = CountInfluential(view_.pockets_p, delta1_);
+      const bool moving = forward_ > 0.5 * speed_ * tick_;
+      if (moving && rng().Bernoulli(YDepositionProbability(n_f, k1_, alpha_))) {
+        NextPhase();
+        return;
+      }
+      const double correction = std::clamp(3.0 * offset, -0.6, 0.6);
+      SteerAvoiding(Wrap(f.psi_p + direction_ * (M_PI / 2 - correction)), speed_);
+      return;
+    }
+    if (phase_ == 3) {  // inhibited: back onto the path, then on along it
+      if (offset > -0.03) {
+        phase_ = 1;
+        phase_ticks_ = 0;
+      } else {
+        swarm::SteerTowards(Wrap(f.psi_p + M_PI), speed_, *wheels_);
+      }
+      return;
+    }
+    // phase 2: towards the boundary (the point p).
+    const double heading_error = Wrap(f.psi_p);
+    if (inhibitions_ < max_inhibitions_ && StructureTooHigh()) {
+      ++inhibitions_;
+      phase_ = 3;
+      phase_ticks_ = 0;
+      return;
+    }
+    if (std::abs(heading_error) > 0.1 && phase_ticks_ < 50) {
+      const double turn = std::clamp(heading_error / 0.5, -1.0, 1.0) * slow_;
+      wheels_->SetLinearVelocity(-turn, turn);
+      blocked_ticks_ = 0;
+      return;
+    }
+    int n_f = 0;
+    const double mu = MeanInfluentialX(view_.pockets_p, delta2_, d_m_, n_f);
+    const bool chosen = n_f > 0 && rng().Bernoulli(XDepositionProbability(mu, k2_, sigma_));
+    if (chosen || f.distance <= force_distance_ || Blocked()) {
+      Stop();
+      Enter(Behaviour::kDrop);
+      return;
+    }
+    swarm::SteerTowards(heading_error, slow_, *wheels_);
+  }
+
+  bool AtEnd() const {
+    return direction_ > 0 ? view_.ahead_max <= end_margin_ : view_.ahead_min >= -end_margin_;
+  }
+
+  // Let go, re-initialise the template frame here, and back off.
+  void Drop() {
+    ++phase_ticks_;
+    if (phase_ == 0) {
+      manipulator_->DisengageMagnet();
+      // Over a landmark the pocket stays on the magnet: back off until it falls.
+      if (arm_->holding() && PhaseSeconds() > 2) {
+        wheels_->SetLinearVelocity(-slow_, -slow_);
+      } else {
+        Stop();
+      }
+      if (!arm_->holding() && PhaseSeconds() > 0.5) {
+        if (view_.structure) ResetTemplateFrame();
+        NextPhase();
+      }
+      return;
+    }
+    if (phase_ == 1) {
+      wheels_->SetLinearVelocity(-slow_, -slow_);
+      if (PhaseSeconds() > 2) NextPhase();
+      return;
+    }
+    LieDown();
+    Enter(Behaviour::kGotoReservoir);
+  }
+
+  // Parameters (README.md).
+  double speed_ = 0, slow_ = 0, tick_ = 0;
+  double template_spacing_ = 0, reservoir_spacing_ = 0, spacing_tolerance_ = 0;
+  double path_distance_ = 0, end_margin_ = 0;
+  double k1_ = 0, alpha_ = 0, delta1_ = 0, height_reading_ = 0;
+  int max_inhibitions_ = 0;
+  double k2_ = 0, sigma_ = 0, delta2_ = 0, d_m_ = 0, force_distance_ = 0;
+  double approach_distance_ = 0, pickup_distance_ = 0, carry_elevation_ = 0;
+  double goto_timeout_ = 0, lost_time_ = 0;
+
+  // Devices.
+  const OmnidirectionalCamera* camera_ = nullptr;
+  const WheelEncoders* encoders_ = nullptr;
+  const ManipulatorSensor* arm_ = nullptr;
+  const ProximitySensor* proximity_ = nullptr;
+  DifferentialSteering* wheels_ = nullptr;
+  ManipulatorActuator* manipulator_ = nullptr;
+  swarm::ObstacleVector obstacle_;
+  swarm::RandomWalk walk_;
+
+  // State: odometry in the template frame, the reservoir location in it.
+  double x_ = 0, y_ = 0, psi_ = 0, forward_ = 0;
+  Point reservoir_;
+  bool have_template_ = false, have_reservoir_ = false;
+  View view_;
+  Behaviour behaviour_ = Behaviour::kExplore;
+  int phase_ = 0, phase_ticks_ = 0, blocked_ticks_ = 0, direction_ = 1;
+  int inhibitions_ = 0;  // of the pocket carried
+  int lost_ticks_ = 0;   // since the template was last in view, deploying
+  bool detour_ = false;     // going round the boundary's end to the structure's side
+};
+
+}  // namespace
+}  // namespace colony::pocket_builder
+
+COLONY_REGISTER_CONTROLLER(colony::pocket_builder::PocketBuilder, "pocket_builder",
+                           "seed 004's barrier construction with pockets: explore, goto-reservoir, "
+                           "approach, pick-up, goto-structure, deploy, drop (params in "
+                           "controllers/pocket_builder/README.md)");
