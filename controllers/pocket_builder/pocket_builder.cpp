@@ -38,9 +38,9 @@ struct View {
   std::vector<Point> landmarks, pockets;
   // The structure region: two landmarks `template_spacing` apart in view.
   bool structure = false;
-  InstantFrame frame;             // of the nearest boundary line
+  InstantFrame frame;                   // of the nearest boundary line
   double ahead_min = 0, ahead_max = 0;  // extent of the visible template along y_p
-  std::vector<Point> pockets_p;   // visible pockets in the instantaneous frame
+  std::vector<Point> pockets_p;         // visible pockets in the instantaneous frame
   // The reservoir region: two landmarks `reservoir_spacing` apart.
   bool reservoir = false;
   Point res_a, res_b;
@@ -48,7 +48,15 @@ struct View {
   Point pocket;
 };
 
-enum class Behaviour { kExplore, kGotoReservoir, kApproach, kPickUp, kGotoStructure, kDeploy, kDrop };
+enum class Behaviour {
+  kExplore,
+  kGotoReservoir,
+  kApproach,
+  kPickUp,
+  kGotoStructure,
+  kDeploy,
+  kDrop
+};
 
 class PocketBuilder : public Controller {
  public:
@@ -92,13 +100,27 @@ class PocketBuilder : public Controller {
     Odometry();
     Look();
     switch (behaviour_) {
-      case Behaviour::kExplore: Explore(); break;
-      case Behaviour::kGotoReservoir: GotoReservoir(); break;
-      case Behaviour::kApproach: Approach(); break;
-      case Behaviour::kPickUp: PickUp(); break;
-      case Behaviour::kGotoStructure: GotoStructure(); break;
-      case Behaviour::kDeploy: Deploy(); break;
-      case Behaviour::kDrop: Drop(); break;
+      case Behaviour::kExplore:
+        Explore();
+        break;
+      case Behaviour::kGotoReservoir:
+        GotoReservoir();
+        break;
+      case Behaviour::kApproach:
+        Approach();
+        break;
+      case Behaviour::kPickUp:
+        PickUp();
+        break;
+      case Behaviour::kGotoStructure:
+        GotoStructure();
+        break;
+      case Behaviour::kDeploy:
+        Deploy();
+        break;
+      case Behaviour::kDrop:
+        Drop();
+        break;
     }
   }
 
@@ -258,7 +280,8 @@ class PocketBuilder : public Controller {
     manipulator_->SetElevation(manipulator_->min_elevation());
   }
   bool LyingDown() const {
-    return std::abs(Wrap(arm_->rotation() - M_PI)) < 0.05 && std::abs(arm_->tilt() + M_PI / 4) < 0.05 &&
+    return std::abs(Wrap(arm_->rotation() - M_PI)) < 0.05 &&
+           std::abs(arm_->tilt() + M_PI / 4) < 0.05 &&
            arm_->elevation() < manipulator_->min_elevation() + 0.005;
   }
   double MiddleIr() const {
@@ -485,7 +508,7 @@ class PocketBuilder : public Controller {
       return;
     }
     const double offset = f.distance - path_distance_;  // > 0: too far from the boundary
-    if (phase_ == 0) {  // onto the path
+    if (phase_ == 0) {                                  // onto the path
       if (std::abs(offset) < 0.03) {
         direction_ = rng().Bernoulli(0.5) ? 1 : -1;
         NextPhase();
@@ -497,7 +520,7 @@ class PocketBuilder : public Controller {
       }
       return;
     }
-    if (phase_ == 1) {  // along the boundary
+    if (phase_ == 1) {                        // along the boundary
       if (AtEnd()) direction_ = -direction_;  // an end of the boundary: turn around
       // Eq. 3.3, tried at each step of travel along the path (not while
       // turning on the spot at an end).
@@ -604,7 +627,7 @@ class PocketBuilder : public Controller {
   int phase_ = 0, phase_ticks_ = 0, blocked_ticks_ = 0, direction_ = 1;
   int inhibitions_ = 0;  // of the pocket carried
   int lost_ticks_ = 0;   // since the template was last in view, deploying
-  bool detour_ = false;     // going round the boundary's end to the structure's side
+  bool detour_ = false;  // going round the boundary's end to the structure's side
 };
 
 }  // namespace
