@@ -62,6 +62,59 @@ TEST(PocketsSingle, SameResultAtAnyThreadCount) {
   EXPECT_EQ(hashes[0], hashes[2]);
 }
 
+// Seed 004's swarm (experiments/pockets_swarm.xml, section 3.4.4), shortened:
+// 3 robots and a quota of 15 pockets. The robots share the double path and
+// the reservoirs; none of them ever stands still for two minutes (robots
+// waiting on each other would), and all 15 pockets land along the boundary.
+TEST(PocketsSwarm, ThreeRobotsDepositTheirQuotaWithoutDeadlock) {
+  if (!HaveEngine()) GTEST_SKIP() << "kinematics2d not in this build";
+  for (int seed : {1, 2}) {
+    auto sim = testing::LoadExperiment(
+        "pockets_swarm.xml", seed,
+        {"arena.distribute.entity.quantity=3", "loop_functions.params.quota=15"});
+    const Space& space = sim->space();
+    std::vector<uint32_t> robots;
+    for (uint32_t s = 0; s < space.slots(); ++s) {
+      if (space.alive(s) && (space.flags(s) & kRobot)) robots.push_back(s);
+    }
+    ASSERT_EQ(robots.size(), 3u);
+    const int still_limit = 1200;  // ticks: 120 s
+    std::vector<Vec3> last(robots.size());
+    std::vector<int> still(robots.size(), 0);
+    for (size_t i = 0; i < robots.size(); ++i) last[i] = space.pose(robots[i]).position;
+    while (!sim->Done()) {
+      sim->Step();
+      if (sim->tick() % 10 != 0) continue;
+      for (size_t i = 0; i < robots.size(); ++i) {
+        const Vec3 p = space.pose(robots[i]).position;
+        still[i] = (p - last[i]).norm() < 0.01 ? still[i] + 10 : 0;
+        last[i] = p;
+        ASSERT_LT(still[i], still_limit)
+            << "seed " << seed << ": " << space.id(robots[i])
+            << " stood still for 120 s at t = " << sim->tick() / 10.0 << " s";
+      }
+    }
+    EXPECT_EQ(testing::Metric(*sim, "deposited"), 15) << "seed " << seed;
+    EXPECT_GT(testing::Metric(*sim, "construction_time"), 0) << "seed " << seed;
+    EXPECT_LT(testing::Metric(*sim, "integrity_deviation"), 0.05) << "seed " << seed;
+  }
+}
+
+TEST(PocketsSwarm, SameResultAtAnyThreadCount) {
+  if (!HaveEngine()) GTEST_SKIP() << "kinematics2d not in this build";
+  std::vector<uint64_t> hashes;
+  for (int threads : {0, 1, 2}) {
+    auto sim = testing::LoadExperiment(
+        "pockets_swarm.xml", 1,
+        {"arena.distribute.entity.quantity=3", "loop_functions.params.quota=8"}, threads);
+    while (!sim->Done()) sim->Step();
+    EXPECT_EQ(testing::Metric(*sim, "deposited"), 8) << threads << " threads";
+    hashes.push_back(sim->StateHash());
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
+  EXPECT_EQ(hashes[0], hashes[2]);
+}
+
 // The boundary 35 cm ahead of the robot, across its heading, and pockets
 // piling up on it in front of the robot: the more influential pockets in
 // view, the less likely eq. 3.3 picks this place along the boundary.

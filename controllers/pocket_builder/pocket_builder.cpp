@@ -11,6 +11,15 @@
 // rotation, holding). Template landmarks are told from reservoir landmarks by
 // their spacing (`template_spacing`, `reservoir_spacing`): the camera gives
 // every landmark the same colour. README.md has the parameters.
+//
+// With `swarm="true"`, the inter-robot rules of section 3.4.4: the robots see
+// each other with the range-and-bearing device (position, and one byte: "I am
+// approaching a pocket"); the double path along the boundary (main path right
+// to left, nearer; auxiliary path left to right, `lane_gap` farther), entered
+// by the auxiliary path, switched when the robot's left side is free, the
+// loop mechanism P(lambda -> -lambda) = tau; a robot stops behind another on
+// its path; at the reservoir a robot waits, clear of the approach point, while
+// another robot closer to the pocket approaches it.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -18,12 +27,14 @@
 
 #include "actuators/differential_steering/differential_steering.h"
 #include "actuators/manipulator/manipulator.h"
+#include "actuators/range_and_bearing/range_and_bearing.h"
 #include "controllers/common/steering.h"
 #include "controllers/pocket_builder/deposition.h"
 #include "core/registry.h"
 #include "sensors/manipulator/manipulator.h"
 #include "sensors/omnidirectional_camera/omnidirectional_camera.h"
 #include "sensors/proximity/proximity.h"
+#include "sensors/range_and_bearing/range_and_bearing.h"
 #include "sensors/wheel_encoders/wheel_encoders.h"
 
 namespace colony::pocket_builder {
@@ -47,6 +58,9 @@ struct View {
   bool res_pocket = false;  // a pocket between them
   Point pocket;
 };
+
+// The two paths of the double path (3.4.4); the values are lambda.
+constexpr int kMainPath = 1, kAuxiliaryPath = -1;
 
 enum class Behaviour {
   kExplore,
@@ -93,12 +107,25 @@ class PocketBuilder : public Controller {
     manipulator_ = &GetActuator<ManipulatorActuator>("manipulator");
     proximity_ = &GetSensor<ProximitySensor>("proximity");
     obstacle_.Bind(*proximity_);
+    swarm_ = params.GetBool("swarm", false);
+    if (swarm_) {
+      lane_gap_ = params.GetDouble("lane_gap", 0.25, 0.17, 1);
+      tau_ = params.GetDouble("tau", 0.005, 0, 1);
+      follow_distance_ = params.GetDouble("follow_distance", 0.35, 0.17, 2);
+      side_length_ = params.GetDouble("side_length", 0.3, 0, 2);
+      wait_distance_ = params.GetDouble("wait_distance", 0.6, 0.3, 3);
+      wait_time_ = params.GetDouble("wait_time", 2, 0, 1e6);
+      max_wait_ = params.GetDouble("max_wait", 20, 1, 1e6);
+      rab_ = &GetSensor<RangeAndBearingSensor>("range_and_bearing");
+      beacon_ = &GetActuator<RangeAndBearingActuator>("range_and_bearing");
+    }
     Carry();
   }
 
   void ControlStep() override {
     Odometry();
     Look();
+    if (swarm_) SeeRobots();
     switch (behaviour_) {
       case Behaviour::kExplore:
         Explore();
@@ -122,6 +149,7 @@ class PocketBuilder : public Controller {
         Drop();
         break;
     }
+    if (swarm_) beacon_->SetByte(0, static_cast<uint8_t>(Broadcast()));
   }
 
  private:
@@ -197,6 +225,93 @@ class PocketBuilder : public Controller {
         }
       }
     }
+  }
+
+  // What the robot tells the others (one byte of range-and-bearing): it is
+  // approaching a pocket, or travelling along a path and in which direction
+  // (+y_p or -y_p: the same for every robot, all see the same boundary).
+  enum Signal : uint8_t {
+    kNothing = 0,
+    kApproaching = 1,
+    kTravellingLeft = 2,
+    kTravellingRight = 3
+  };
+  Signal Broadcast() const {
+    if (behaviour_ == Behaviour::kApproach || behaviour_ == Behaviour::kPickUp) return kApproaching;
+    if (behaviour_ != Behaviour::kDeploy || (phase_ != 1 && phase_ != 4)) return kNothing;
+    return direction_ > 0 ? kTravellingLeft : kTravellingRight;
+  }
+
+  // The other robots the range-and-bearing device hears, in the body frame.
+  void SeeRobots() {
+    robots_.clear();
+    for (const auto& packet : rab_->packets()) {
+      const uint8_t signal = packet.data.empty() ? 0 : packet.data[0];
+      robots_.push_back({FromPolar(packet.range, packet.bearing), signal});
+    }
+  }
+
+  // The robot's left side on the double path is free (3.4.4): no robot
+  // beside it (within `side_length` along the boundary) on the other path's
+  // side, up to one path beyond it. Left of the traffic is away from the
+  // boundary on the main path and towards it on the auxiliary path.
+  bool LeftFree() const {
+    const double left = -direction_;  // along x_p (towards the boundary)
+    for (const SeenRobot& r : robots_) {
+      const Point q = view_.frame.ToInstant(r.at);
+      const double side = q.x * left;
+      if (side > 0.05 && side < lane_gap_ + 0.2 && std::abs(q.y) < side_length_) return false;
+    }
+    return true;
+  }
+
+  // Another robot ahead on the same path (within 45 degrees of the direction
+  // of travel, less than a robot's width aside), within `follow_distance`:
+  // the robots behind a stopped one stop too (3.4.4). A robot beside this
+  // one is not ahead, nor one travelling the other way (a robot changing
+  // paths meets them head-on): two robots must not wait on each other.
+  bool RobotAheadOnPath() const {
+    const uint8_t oncoming = direction_ > 0 ? kTravellingRight : kTravellingLeft;
+    for (const SeenRobot& r : robots_) {
+      if (r.signal == oncoming) continue;  // changing paths: they pass, avoiding each other
+      const Point q = view_.frame.ToInstant(r.at);
+      const double ahead = q.y * direction_;
+      if (ahead > std::abs(q.x) && ahead < follow_distance_ && std::abs(q.x) < 0.19) return true;
+    }
+    return false;
+  }
+
+  // Another robot straight ahead (body frame, within 45 degrees) within
+  // `follow_distance`.
+  bool RobotInFront() const {
+    for (const SeenRobot& r : robots_) {
+      if (r.at.x > std::abs(r.at.y) && r.at.x < follow_distance_ && std::abs(r.at.y) < 0.19) {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Another robot approaching the reservoir's pocket (in view) and closer to
+  // it than this one (3.4.4); only robots within `wait_distance` of it count,
+  // not those at a neighbouring reservoir.
+  bool OtherCloserToPocket() const {
+    const Point& p = view_.pocket;
+    const double mine = std::hypot(p.x, p.y);
+    for (const SeenRobot& r : robots_) {
+      if (r.signal != kApproaching) continue;
+      const double theirs = std::hypot(r.at.x - p.x, r.at.y - p.y);
+      if (theirs < mine && theirs < wait_distance_) return true;
+    }
+    return false;
+  }
+
+  // More of the pockets in view lie between the robot and the boundary line
+  // than beyond it.
+  bool OnStructureSide() const {
+    int nearer = 0;
+    for (const Point& q : view_.pockets_p) nearer += q.x < view_.frame.distance ? 1 : -1;
+    return nearer > 0;
   }
 
   // The robot's heading in the template frame, from the camera: the template
@@ -295,6 +410,7 @@ class PocketBuilder : public Controller {
     phase_ticks_ = 0;
     blocked_ticks_ = 0;
     lost_ticks_ = 0;
+    backoff_ticks_ = 0;
   }
   void NextPhase() {
     ++phase_;
@@ -352,6 +468,7 @@ class PocketBuilder : public Controller {
   // Visual navigation to the point in front of the pocket, then towards it
   // with the manipulator lying on the ground.
   void Approach() {
+    if (swarm_ && WaitForCloserRobot()) return;
     ++phase_ticks_;
     if (phase_ == 0) {
       LieDown();
@@ -361,11 +478,24 @@ class PocketBuilder : public Controller {
       }
       if (!view_.res_pocket) {
         Stop();  // the reservoir is waiting for its refill
+        // Several reservoirs (a swarm's arena): one left empty for longer
+        // than goto_timeout has run out; look for another.
+        if (swarm_ && PhaseSeconds() > goto_timeout_) {
+          have_reservoir_ = false;
+          Enter(Behaviour::kExplore);
+        }
         return;
       }
       const Point q = ApproachPoint();
       if (std::hypot(q.x, q.y) < 0.03) {
         NextPhase();
+        return;
+      }
+      // Pushed against a landmark or a robot (in a swarm): back off for 2 s.
+      if (swarm_ && (backoff_ticks_ > 0 || Blocked())) {
+        backoff_ticks_ = backoff_ticks_ > 0 ? backoff_ticks_ - 1 : static_cast<int>(2 / tick_);
+        blocked_ticks_ = 0;
+        wheels_->SetLinearVelocity(-slow_, -0.5 * slow_);
         return;
       }
       swarm::SteerTowards(std::atan2(q.y, q.x), std::hypot(q.x, q.y) < 0.15 ? slow_ : speed_,
@@ -400,6 +530,53 @@ class PocketBuilder : public Controller {
     }
     Enter(Behaviour::kPickUp);
     PickUp();
+  }
+
+  // A robot stopped by a swarm rule for longer than `max_wait` ignores the
+  // rules for `max_wait` / 4 (driving on, avoiding what its proximity ring
+  // sees): the rules are local and several robots can wait on each other in a
+  // crowd. Call once per step: true while the rules hold.
+  bool SwarmRulesHold() {
+    if (bypass_ticks_ > 0) {
+      --bypass_ticks_;
+      return false;
+    }
+    return true;
+  }
+  // Counts a step stopped by a rule; past `max_wait` starts the bypass.
+  void Stalled() {
+    stuck_ticks_ = 0;
+    if (++stalled_ticks_ * tick_ > max_wait_) {
+      stalled_ticks_ = 0;
+      bypass_ticks_ = static_cast<int>(0.25 * max_wait_ / tick_);
+    }
+  }
+
+  // While another robot closer to the pocket approaches it, wait (at least
+  // `wait_time`), backing away to `wait_distance` from the pocket so that the
+  // approach point stays clear; then approach from the start.
+  bool WaitForCloserRobot() {
+    if (!SwarmRulesHold()) {
+      wait_ticks_ = 0;
+      return false;
+    }
+    if (wait_ticks_ > 0) {
+      --wait_ticks_;
+    } else if (view_.res_pocket && OtherCloserToPocket()) {
+      wait_ticks_ = static_cast<int>(wait_time_ / tick_);
+      Enter(Behaviour::kApproach);
+    } else {
+      stalled_ticks_ = 0;
+      return false;
+    }
+    Stalled();
+    const Point& p = view_.pocket;
+    if (view_.res_pocket && std::hypot(p.x, p.y) < wait_distance_) {
+      SteerAvoiding(std::atan2(-p.y, -p.x), slow_);
+    } else {
+      Stop();
+    }
+    return true;
   }
 
   // Forwards until the manipulator's IR sensors see the pocket, on until the
@@ -467,6 +644,7 @@ class PocketBuilder : public Controller {
       Enter(Behaviour::kGotoReservoir);
       return;
     }
+    if (swarm_ && detour_ && view_.structure && OnStructureSide()) detour_ = false;
     const Point goal{detour_ ? -2 * path_distance_ : 0.0, 0};
     if (view_.structure && !detour_) {
       Enter(Behaviour::kDeploy);
@@ -500,11 +678,19 @@ class PocketBuilder : public Controller {
     }
     lost_ticks_ = 0;
     const InstantFrame& f = view_.frame;
+    // In a swarm, robots push each other and odometry's heading drifts: the
+    // pockets already built, between the robot and the boundary line, show
+    // it is on the structure's side; its heading is then the camera's.
+    if (swarm_ && OnStructureSide()) psi_ = VisualHeading();
     // The boundary seen from its far side (the template frame's x axis points
     // to it from the structure's side): round the end, back by odometry.
     if (std::cos(psi_ + f.psi_p) < 0) {
       detour_ = true;
       Enter(Behaviour::kGotoStructure);
+      return;
+    }
+    if (swarm_ && phase_ != 2) {
+      SwarmDeploy();
       return;
     }
     const double offset = f.distance - path_distance_;  // > 0: too far from the boundary
@@ -560,12 +746,127 @@ class PocketBuilder : public Controller {
     int n_f = 0;
     const double mu = MeanInfluentialX(view_.pockets_p, delta2_, d_m_, n_f);
     const bool chosen = n_f > 0 && rng().Bernoulli(XDepositionProbability(mu, k2_, sigma_));
-    if (chosen || f.distance <= force_distance_ || Blocked()) {
+    const bool blocked = Blocked();
+    // In a swarm, held up by a robot (not a heap), or pushed past an end of
+    // the boundary (the pocket would land outside the structure): back onto
+    // the path.
+    const bool past_end = view_.ahead_max < -0.05 || view_.ahead_min > 0.05;
+    if (swarm_ && ((blocked && RobotInFront()) || past_end)) {
+      phase_ = 3;
+      phase_ticks_ = 0;
+      blocked_ticks_ = 0;
+      return;
+    }
+    if (chosen || f.distance <= force_distance_ || blocked) {
       Stop();
       Enter(Behaviour::kDrop);
       return;
     }
     swarm::SteerTowards(heading_error, slow_, *wheels_);
+  }
+
+  // Deploy on the double path (3.4.4). Phases: 0 onto the auxiliary path;
+  // 1 along a path (the deposition rule of eq. 3.3 on the main path only);
+  // 2 towards the boundary (Deploy, as for one robot); 3 inhibited, back
+  // onto the main path; 4 after the drop, on along the main path until the
+  // left side is free, then off to the reservoir.
+  void SwarmDeploy() {
+    const InstantFrame& f = view_.frame;
+    const bool rules = SwarmRulesHold();
+    if (phase_ == 0) {
+      // On the auxiliary path, or nearer the boundary (then the path's
+      // steering takes the robot out to it while it travels along).
+      const double offset = f.distance - path_distance_ - lane_gap_;
+      if (offset < 0.03) {
+        lane_ = kAuxiliaryPath;
+        lambda_ = kMainPath;  // the main path as soon as the left side is free
+        NextPhase();
+        return;
+      }
+      if (rules && RobotInFront()) {
+        Stop();
+        Stalled();
+        return;
+      }
+      const double vx = std::clamp(offset / 0.1, -1.0, 1.0);
+      const double vy = view_.ahead_max < 0 ? -1.0 : view_.ahead_min > 0 ? 1.0 : 0.0;
+      SteerAvoiding(Wrap(f.psi_p + std::atan2(vy, vx)), speed_);
+      return;
+    }
+    if (phase_ == 3) {  // inhibited: back onto the main path (a robot there: go on anyway)
+      if (f.distance - path_distance_ > -0.03 || Blocked()) {
+        phase_ = 1;
+        phase_ticks_ = 0;
+        blocked_ticks_ = 0;
+      } else {
+        swarm::SteerTowards(Wrap(f.psi_p + M_PI), speed_, *wheels_);
+      }
+      return;
+    }
+    const bool leaving = phase_ == 4;
+    if (leaving) lane_ = kMainPath;
+    direction_ = lane_ == kMainPath ? 1 : -1;
+    if (leaving) {
+      if (!rules || LeftFree() || AtEnd()) {
+        Enter(Behaviour::kGotoReservoir);
+        return;
+      }
+    } else {
+      // The loop mechanism: lambda flips with probability tau per step; at
+      // an end of the boundary the robot must take the other path.
+      const bool at_end = AtEnd();
+      if (at_end) {
+        lambda_ = -lane_;
+      } else if (rng().Bernoulli(tau_)) {
+        lambda_ = -lambda_;
+      }
+      if (lambda_ != lane_) {
+        if (!rules || LeftFree()) {
+          lane_ = lambda_;
+          direction_ = -direction_;
+        } else if (at_end) {
+          Stop();  // wait at the end for the other path to clear
+          Stalled();
+          return;
+        }
+      }
+    }
+    if (rules && RobotAheadOnPath()) {
+      Stop();
+      Stalled();
+      return;
+    }
+    stalled_ticks_ = 0;
+    // Held up for 3 s with nothing in the rules against moving (a heap, a
+    // landmark or a robot the ring sees, often at an end of the boundary):
+    // 2 s straight away from the boundary, then on.
+    stuck_ticks_ = forward_ < 0.2 * slow_ * tick_ ? stuck_ticks_ + 1 : 0;
+    if (stuck_ticks_ * tick_ > 3) {
+      stuck_ticks_ = 0;
+      backoff_ticks_ = static_cast<int>(2 / tick_);
+    }
+    if (backoff_ticks_ > 0) {
+      --backoff_ticks_;
+      swarm::SteerTowards(Wrap(f.psi_p + M_PI), speed_, *wheels_);
+      return;
+    }
+    const double target = lane_ == kMainPath ? path_distance_ : path_distance_ + lane_gap_;
+    const double offset = f.distance - target;
+    // Eq. 3.3 on the main path, not before its start (past the boundary's
+    // right end, where robots coming off the auxiliary path join it).
+    const bool beside = view_.ahead_min < 0;
+    if (!leaving && lane_ == kMainPath && beside && std::abs(offset) < 0.05) {
+      const int n_f = CountInfluential(view_.pockets_p, delta1_);
+      const bool moving = forward_ > 0.5 * speed_ * tick_;
+      if (moving && rng().Bernoulli(YDepositionProbability(n_f, k1_, alpha_))) {
+        phase_ = 2;
+        phase_ticks_ = 0;
+        blocked_ticks_ = 0;
+        return;
+      }
+    }
+    const double correction = std::clamp(3.0 * offset, -0.6, 0.6);
+    SteerAvoiding(Wrap(f.psi_p + direction_ * (M_PI / 2 - correction)), speed_);
   }
 
   bool AtEnd() const {
@@ -595,6 +896,11 @@ class PocketBuilder : public Controller {
       return;
     }
     LieDown();
+    if (swarm_ && view_.structure) {
+      Enter(Behaviour::kDeploy);
+      phase_ = 4;
+      return;
+    }
     Enter(Behaviour::kGotoReservoir);
   }
 
@@ -607,6 +913,9 @@ class PocketBuilder : public Controller {
   double k2_ = 0, sigma_ = 0, delta2_ = 0, d_m_ = 0, force_distance_ = 0;
   double approach_distance_ = 0, pickup_distance_ = 0, carry_elevation_ = 0;
   double goto_timeout_ = 0, lost_time_ = 0;
+  bool swarm_ = false;
+  double lane_gap_ = 0, tau_ = 0, follow_distance_ = 0, side_length_ = 0;
+  double wait_distance_ = 0, wait_time_ = 0, max_wait_ = 0;
 
   // Devices.
   const OmnidirectionalCamera* camera_ = nullptr;
@@ -615,6 +924,8 @@ class PocketBuilder : public Controller {
   const ProximitySensor* proximity_ = nullptr;
   DifferentialSteering* wheels_ = nullptr;
   ManipulatorActuator* manipulator_ = nullptr;
+  const RangeAndBearingSensor* rab_ = nullptr;
+  RangeAndBearingActuator* beacon_ = nullptr;
   swarm::ObstacleVector obstacle_;
   swarm::RandomWalk walk_;
 
@@ -628,6 +939,19 @@ class PocketBuilder : public Controller {
   int inhibitions_ = 0;  // of the pocket carried
   int lost_ticks_ = 0;   // since the template was last in view, deploying
   bool detour_ = false;  // going round the boundary's end to the structure's side
+  // Swarm (3.4.4): the other robots heard this tick; the path the robot is on
+  // and the one it has decided for (lambda); ticks still to wait.
+  struct SeenRobot {
+    Point at;
+    uint8_t signal = kNothing;
+  };
+  std::vector<SeenRobot> robots_;
+  int lane_ = kMainPath, lambda_ = kMainPath;
+  int wait_ticks_ = 0;
+  int stalled_ticks_ = 0;  // consecutive steps stopped by a swarm rule
+  int bypass_ticks_ = 0;   // steps left ignoring the swarm rules
+  int backoff_ticks_ = 0;  // approach: steps left backing off
+  int stuck_ticks_ = 0;    // consecutive steps on a path without moving, the rules allowing
 };
 
 }  // namespace
