@@ -4,6 +4,7 @@
 // Each sensor instance draws from its own random stream.
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "core/config.h"
@@ -36,6 +37,11 @@ struct NoiseModel {
         return value + rng.Uniform(min, max);
     }
     return value;
+  }
+  // `value` (a distance, a force: never negative) with noise added, and at
+  // least 0.
+  double ApplyNonNegative(double value, RandomStream& rng) const {
+    return std::max(0.0, Apply(value, rng));
   }
   // Whether this reading is lost.
   bool Drop(RandomStream& rng) const {

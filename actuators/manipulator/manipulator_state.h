@@ -7,6 +7,7 @@
 // the physics models that simulate it (dynamics3d, kinematics2d, dynamics2d).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -38,6 +39,16 @@ struct ManipulatorState {
   double magnet = 0;            // 0 disengaged .. 1 engaged; it holds only when fully engaged
   uint32_t held = 0xFFFFFFFFu;  // slot of the object the magnet holds, or none
   bool holding() const { return held != 0xFFFFFFFFu; }
+  // Moves the magnet dt seconds towards what is wanted (switch_time for a
+  // full switch), for the models of every engine.
+  void SwitchMagnet(double dt) {
+    const double step = switch_time > 0 ? dt / switch_time : 1.0;
+    magnet = std::clamp(magnet + (want_magnet ? step : -step), 0.0, 1.0);
+    // Summing dt / switch_time falls short of 1 (or 0) by a rounding error:
+    // snap, so the switch takes switch_time, not a tick more.
+    if (magnet > 1.0 - 1e-9) magnet = 1.0;
+    if (magnet < 1e-9) magnet = 0.0;
+  }
   void Hash(StateHasher& h) const {
     const double v[5] = {elevation, rotation, magnet, want_magnet ? 1.0 : 0.0,
                          static_cast<double>(held)};

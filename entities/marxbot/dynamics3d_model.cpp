@@ -330,12 +330,7 @@ class MarxbotDynamics3dModel : public Dynamics3dModel {
   // and holds what it touches when it is.
   static void UpdateMagnet(Engine& engine, Space& space, uint32_t s, Robot& r, double dt) {
     ManipulatorState& m = *space.Get<ManipulatorState>(s);
-    const double step = m.switch_time > 0 ? dt / m.switch_time : 1.0;
-    m.magnet = std::clamp(m.magnet + (m.want_magnet ? step : -step), 0.0, 1.0);
-    // Summing dt / switch_time falls short of 1 (or 0) by a rounding error:
-    // snap, so the switch takes switch_time, not a tick more.
-    if (m.magnet > 1.0 - 1e-9) m.magnet = 1.0;
-    if (m.magnet < 1e-9) m.magnet = 0.0;
+    m.SwitchMagnet(dt);
     if (m.magnet < 1.0) {
       r.magnet.Release(engine);
       return;

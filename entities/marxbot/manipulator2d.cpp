@@ -55,15 +55,6 @@ void MoveHead(ManipulatorState& m, double dt) {
   }
 }
 
-// As in dynamics3d: dt / switch_time per tick, snapped at the ends so the
-// switch takes switch_time, not a tick more.
-void SwitchMagnet(ManipulatorState& m, double dt) {
-  const double step = m.switch_time > 0 ? dt / m.switch_time : 1.0;
-  m.magnet = std::clamp(m.magnet + (m.want_magnet ? step : -step), 0.0, 1.0);
-  if (m.magnet > 1.0 - 1e-9) m.magnet = 1.0;
-  if (m.magnet < 1e-9) m.magnet = 0.0;
-}
-
 }  // namespace
 
 void Manipulator2d::Add(Space& space, uint32_t s) {
@@ -94,7 +85,7 @@ void Manipulator2d::Step(Space& space, double dt, const CarriedHook& carried) {
   for (uint32_t s : slots_) {
     ManipulatorState& m = *space.Get<ManipulatorState>(s);
     MoveHead(m, dt);
-    SwitchMagnet(m, dt);
+    m.SwitchMagnet(dt);
     if (m.magnet < 1.0) {
       // A pocket that cannot fall clear yet stays on the magnet.
       if (m.holding() && !Drop(space, s, m, carried, false)) CarryAlong(space, s, m, dt);

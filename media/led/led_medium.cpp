@@ -181,6 +181,19 @@ void LedMedium::Update() {
   if (occlusions_ && count > 0) occluders_.Build(space, grid_.cell_size());
 }
 
+std::vector<AttributeDoc> BlobCameraAttributes() {
+  return {
+      {"check_occlusions", "true, false", "true", "a blob hidden behind a solid body is not seen"},
+      {"medium", "the id of a <led> in <media>", "the only one, or one with default settings",
+       "which LED medium the blobs come from"},
+      {"noise", "none, gaussian, uniform", "none", "noise added to each blob's distance"},
+      {"noise_std_dev", "a number >= 0 (m)", "0",
+       "standard deviation of gaussian noise on the distance"},
+      {"noise_range", "\"min,max\" (m)", "0,0", "bounds of uniform noise on the distance"},
+      {"drop_probability", "a number in [0, 1]", "0", "probability that a blob is missed"},
+  };
+}
+
 COLONY_REGISTER_MEDIUM(LedMedium, "led",
                        "every lit LED (robots' LED rings and beacons, lights), every landmark, "
                        "every visible pocket and every laser spot (eye-bots' laser pointers), as "

@@ -19,6 +19,11 @@
 
 namespace colony {
 
+// The attributes every camera reading blobs from the LED medium shares
+// (omnidirectional, pan-tilt): check_occlusions, medium, and the noise on a
+// blob's distance and its loss.
+std::vector<AttributeDoc> BlobCameraAttributes();
+
 class LedMedium : public Medium {
  public:
   void Configure(const ConfigNode& node) override;

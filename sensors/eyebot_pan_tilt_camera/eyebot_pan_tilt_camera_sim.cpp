@@ -142,9 +142,7 @@ class PanTiltCameraSystem : public SensorSystem {
       bearing = WrapAngle(bearing + c.rng.Gaussian(0, angle_noise_));
       elevation = std::clamp(elevation + c.rng.Gaussian(0, angle_noise_), -M_PI / 2, M_PI / 2);
     }
-    const double noisy = noise_.kind == NoiseModel::Kind::kNone
-                             ? distance
-                             : std::max(0.0, noise_.Apply(distance, c.rng));
+    const double noisy = noise_.ApplyNonNegative(distance, c.rng);
     c.mutable_blobs().push_back({led.color.r, led.color.g, led.color.b, static_cast<float>(noisy),
                                  static_cast<float>(bearing), static_cast<float>(elevation)});
   }
@@ -159,21 +157,15 @@ class PanTiltCameraSystem : public SensorSystem {
 };
 
 std::vector<AttributeDoc> CameraAttributes() {
-  return {
+  std::vector<AttributeDoc> a = {
       {"fov", "a number in (0, 180) (degrees)", "60",
        "the field of view: a cone of half this angle around the head's axis"},
       {"range", "a number > 0 (m)", "5", "how far from the head blobs are seen"},
-      {"check_occlusions", "true, false", "true", "a blob hidden behind a solid body is not seen"},
-      {"medium", "the id of a <led> in <media>", "the only one, or one with default settings",
-       "which LED medium the blobs come from"},
-      {"noise", "none, gaussian, uniform", "none", "noise added to each blob's distance"},
-      {"noise_std_dev", "a number >= 0 (m)", "0",
-       "standard deviation of gaussian noise on the distance"},
-      {"noise_range", "\"min,max\" (m)", "0,0", "bounds of uniform noise on the distance"},
-      {"drop_probability", "a number in [0, 1]", "0", "probability that a blob is missed"},
-      {"angle_noise_std_dev", "a number >= 0 (rad)", "0",
-       "standard deviation of gaussian noise on the bearing and on the elevation"},
   };
+  for (auto& row : BlobCameraAttributes()) a.push_back(row);
+  a.push_back({"angle_noise_std_dev", "a number >= 0 (rad)", "0",
+               "standard deviation of gaussian noise on the bearing and on the elevation"});
+  return a;
 }
 
 COLONY_REGISTER_SENSOR(

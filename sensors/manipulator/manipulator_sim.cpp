@@ -134,19 +134,8 @@ class ManipulatorSensorSystem : public SensorSystem {
       const Vec2 face = (head.position - 0.5 * marxbot::kHeadDepth * magnet).head<2>();
       const double z = head.position.z();
       const double reach = kIrReach + range_;
-      near.clear();
-      space.Gather(face.x() - reach, face.y() - reach, face.x() + reach, face.y() + reach, near);
-      size_t kept = 0;
-      for (uint32_t o : near) {
-        if (o == self || o == m.held) continue;
-        const Vec3& op = space.pose(o).position;
-        const Geometry& og = space.geometry(o);
-        if (!(z >= op.z() && z < op.z() + og.height())) continue;
-        const double limit = reach + og.BoundingRadius() + 1e-6;
-        if ((op.head<2>() - face).squaredNorm() >= limit * limit) continue;
-        near[kept++] = o;
-      }
-      near.resize(kept);
+      GatherAround(space, face, reach, self, m.held, near,
+                   [z](double bottom, double top) { return z >= bottom && z < top; });
       auto& readings = s.mutable_readings();
       const Pose& pose = space.pose(self);
       for (int i = 0; i < kIrCount; ++i) {
@@ -187,6 +176,27 @@ class ManipulatorSensorSystem : public SensorSystem {
   }
 
  private:
+  // Into `near`: the solid entities (not the robot `self`, not what it
+  // holds) within `reach` of `face` horizontally (their footprint's bounding
+  // circle) whose height span [bottom, top] passes `spans`.
+  template <class Spans>
+  static void GatherAround(const Space& space, const Vec2& face, double reach, uint32_t self,
+                           uint32_t held, std::vector<uint32_t>& near, Spans spans) {
+    near.clear();
+    space.Gather(face.x() - reach, face.y() - reach, face.x() + reach, face.y() + reach, near);
+    size_t kept = 0;
+    for (uint32_t o : near) {
+      if (o == self || o == held) continue;
+      const Vec3& op = space.pose(o).position;
+      const Geometry& og = space.geometry(o);
+      if (!spans(op.z(), op.z() + og.height())) continue;
+      const double limit = reach + og.BoundingRadius() + 1e-6;
+      if ((op.head<2>() - face).squaredNorm() >= limit * limit) continue;
+      near[kept++] = o;
+    }
+    near.resize(kept);
+  }
+
   // The 6 rays of a tilted head, in 3D: from the IR face (its normal the
   // head's -x axis, the sensors along its -y axis) fanned about that normal
   // in the face's plane, against the prisms of the solid footprints near
@@ -198,19 +208,10 @@ class ManipulatorSensorSystem : public SensorSystem {
     const Vec3 across = head.orientation * -Vec3::UnitY();
     const Vec3 face = head.position + 0.5 * marxbot::kHeadDepth * normal;
     const double reach = kIrReach + range_;
-    near.clear();
-    space.Gather(face.x() - reach, face.y() - reach, face.x() + reach, face.y() + reach, near);
-    size_t kept = 0;
-    for (uint32_t o : near) {
-      if (o == self || o == m.held) continue;
-      const Vec3& op = space.pose(o).position;
-      const Geometry& og = space.geometry(o);
-      if (op.z() > face.z() + reach || op.z() + og.height() < face.z() - reach) continue;
-      const double limit = reach + og.BoundingRadius() + 1e-6;
-      if ((op.head<2>() - face.head<2>()).squaredNorm() >= limit * limit) continue;
-      near[kept++] = o;
-    }
-    near.resize(kept);
+    GatherAround(space, face.head<2>(), reach, self, m.held, near,
+                 [&face, reach](double bottom, double top) {
+                   return !(bottom > face.z() + reach || top < face.z() - reach);
+                 });
     const Pose& pose = space.pose(self);
     const Geometry& body = space.geometry(self);
     auto& readings = s.mutable_readings();

@@ -95,9 +95,7 @@ class CameraSystem : public SensorSystem {
           if (noise_.Drop(c.rng)) continue;
           double bearing = FastAtan2(l.y(), l.x());
           if (bearing <= -M_PI) bearing = M_PI;  // (-pi, pi]
-          const double noisy = noise_.kind == NoiseModel::Kind::kNone
-                                   ? distance
-                                   : std::max(0.0, noise_.Apply(distance, c.rng));
+          const double noisy = noise_.ApplyNonNegative(distance, c.rng);
           if (bearing_noise_ > 0) bearing = WrapAngle(bearing + c.rng.Gaussian(0, bearing_noise_));
           blobs.push_back({led.color.r, led.color.g, led.color.b, static_cast<float>(noisy),
                            static_cast<float>(bearing)});
@@ -130,24 +128,18 @@ class CameraSystem : public SensorSystem {
 };
 
 std::vector<AttributeDoc> CameraAttributes() {
-  return {
+  std::vector<AttributeDoc> a = {
       {"range", "a number > 0 (m)", "1.5", "how far (horizontally) blobs are seen"},
       {"aperture", "a number in (0, 90] (degrees)", "70",
        "half-height of the mirror's vertical field: blobs more than this above or below the "
        "camera's "
        "horizontal plane are not seen"},
       {"elevation", "a number (m)", "0.288", "height of the camera above the robot's base"},
-      {"check_occlusions", "true, false", "true", "a blob hidden behind a solid body is not seen"},
-      {"medium", "the id of a <led> in <media>", "the only one, or one with default settings",
-       "which LED medium the blobs come from"},
-      {"noise", "none, gaussian, uniform", "none", "noise added to each blob's distance"},
-      {"noise_std_dev", "a number >= 0 (m)", "0",
-       "standard deviation of gaussian noise on the distance"},
-      {"noise_range", "\"min,max\" (m)", "0,0", "bounds of uniform noise on the distance"},
-      {"drop_probability", "a number in [0, 1]", "0", "probability that a blob is missed"},
-      {"bearing_noise_std_dev", "a number >= 0 (rad)", "0",
-       "standard deviation of gaussian noise on the bearing"},
   };
+  for (auto& row : BlobCameraAttributes()) a.push_back(row);
+  a.push_back({"bearing_noise_std_dev", "a number >= 0 (rad)", "0",
+               "standard deviation of gaussian noise on the bearing"});
+  return a;
 }
 
 COLONY_REGISTER_SENSOR(

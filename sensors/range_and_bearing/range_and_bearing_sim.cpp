@@ -147,7 +147,7 @@ class RabSensorSystem : public SensorSystem {
         if (noise_.Drop(r.rng)) continue;
         float rg = range[j], br = bearing[j];
         if (noise_.kind != NoiseModel::Kind::kNone)
-          rg = static_cast<float>(std::max(0.0, noise_.Apply(rg, r.rng)));
+          rg = static_cast<float>(noise_.ApplyNonNegative(rg, r.rng));
         if (bearing_noise_ > 0)
           br = static_cast<float>(WrapAngle(br + r.rng.Gaussian(0, bearing_noise_)));
         packets.push_back({rg, br, elevation[j], medium.payload(messages[heard[j]])});

@@ -50,7 +50,7 @@ class RopeTractionSystem : public SensorSystem {
       const RopeState& rope = *space.Get<RopeState>(s.robot.index);
       double traction = rope.tension;
       if (rope.attached() && noise_.enabled()) {
-        traction = noise_.Drop(s.rng) ? 0.0 : std::max(0.0, noise_.Apply(traction, s.rng));
+        traction = noise_.Drop(s.rng) ? 0.0 : noise_.ApplyNonNegative(traction, s.rng);
       }
       s.Set(rope, traction);
     }
