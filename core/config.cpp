@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 namespace colony {
@@ -312,6 +313,7 @@ void ConfigNode::CheckAtMostOne(std::string_view name) const {
 Params ConfigNode::ToParams() const {
   Params params;
   if (!element_) return params;
+  params.SetBaseDirectory(std::filesystem::path(file()).parent_path().string());
   for (auto* a = element_->FirstAttribute(); a; a = a->Next()) params.Set(a->Name(), a->Value());
   return params;
 }

@@ -62,6 +62,11 @@ class Params {
                                  double min = -1e300, double max = 1e300) const;
   // Keys present but never read: the host reports them as unknown parameters.
   std::vector<std::string> Unread() const;
+  // The folder of the experiment file these parameters came from (empty when
+  // they were not read from a file): relative file names in parameters (a Lua
+  // script, a data file) resolve against it.
+  const std::string& base_directory() const { return base_directory_; }
+  void SetBaseDirectory(std::string dir) { base_directory_ = std::move(dir); }
   // Every key a getter asked for, present or not (to suggest a correction).
   const std::vector<std::string>& Asked() const { return asked_; }
 
@@ -74,16 +79,22 @@ class Params {
   const Entry* Find(std::string_view key) const;
   std::vector<Entry> entries_;
   mutable std::vector<std::string> asked_;
+  std::string base_directory_;
 };
 
 // What the host hands a controller: its robot's id and the devices declared
 // for it in the experiment file, by label. Filled by the simulator (or by a
-// real robot's runtime) before Init.
+// real robot's runtime) before Init. A device's label is its element's name
+// as written (`footbot_proximity`); its name is the registered device it
+// stands for (`proximity`), the same unless the file used an alias. A
+// controller finds a device by either.
 struct DeviceTable {
   const std::string* robot_id = nullptr;
   const std::vector<std::string>* sensor_labels = nullptr;
+  const std::vector<std::string>* sensor_names = nullptr;  // null: the labels
   Sensor* const* sensors = nullptr;
   const std::vector<std::string>* actuator_labels = nullptr;
+  const std::vector<std::string>* actuator_names = nullptr;  // null: the labels
   Actuator* const* actuators = nullptr;
 };
 
@@ -107,13 +118,17 @@ class Controller {
   // std::logic_error when it is not declared or is not a T.
   template <class T>
   T& GetSensor(std::string_view label) const {
-    return Lookup<T>(label, *devices_.sensor_labels, devices_.sensors, "sensor", "<sensors>");
+    return Lookup<T>(label, *devices_.sensor_labels, devices_.sensor_names, devices_.sensors,
+                     "sensor", "<sensors>");
   }
   template <class T>
   T& GetActuator(std::string_view label) const {
-    return Lookup<T>(label, *devices_.actuator_labels, devices_.actuators, "actuator",
-                     "<actuators>");
+    return Lookup<T>(label, *devices_.actuator_labels, devices_.actuator_names, devices_.actuators,
+                     "actuator", "<actuators>");
   }
+  // Every declared device, for hosts of controllers in other languages (Lua,
+  // the ARGoS compatibility layer) that enumerate them.
+  const DeviceTable& devices() const { return devices_; }
 
   // For the host: binds the devices and the random stream before Init.
   void Bind(const DeviceTable& devices, const RandomStream& rng) {
@@ -123,10 +138,11 @@ class Controller {
 
  private:
   template <class T, class D>
-  static T& Lookup(std::string_view label, const std::vector<std::string>& labels, D* const* items,
-                   const char* what, const char* section) {
+  static T& Lookup(std::string_view label, const std::vector<std::string>& labels,
+                   const std::vector<std::string>* names, D* const* items, const char* what,
+                   const char* section) {
     for (size_t i = 0; i < labels.size(); ++i) {
-      if (labels[i] != label) continue;
+      if (labels[i] != label && !(names && (*names)[i] == label)) continue;
       if (auto* typed = dynamic_cast<T*>(items[i])) return *typed;
       throw std::logic_error(std::string(what) + " '" + std::string(label) +
                              "' is not of the type the controller asked for");

@@ -116,8 +116,10 @@ void Simulation::AttachController(Robot& robot, int line) {
   DeviceTable table;
   table.robot_id = &robot.id;
   table.sensor_labels = &config.sensor_labels;
+  table.sensor_names = &config.sensor_names;
   table.sensors = robot.sensors.get();
   table.actuator_labels = &config.actuator_labels;
+  table.actuator_names = &config.actuator_names;
   table.actuators = robot.actuators.get();
   robot.controller->Bind(table, RandomStream::For(seed_, robot.id, "controller"));
   const ConfigNode params = config.node.Child("params");

@@ -167,7 +167,8 @@ class Simulation {
         nullptr;  // the entry's shared library, or null (built in), for crash reports
     ConfigNode node;
     Params params;
-    std::vector<std::string> sensor_labels, actuator_labels;
+    std::vector<std::string> sensor_labels, actuator_labels;  // element names as written
+    std::vector<std::string> sensor_names, actuator_names;    // the registered devices'
     std::vector<SensorSystem*> sensors;
     std::vector<ActuatorSystem*> actuators;
     std::vector<ConfigNode> sensor_nodes, actuator_nodes;
@@ -191,8 +192,9 @@ class Simulation {
   void CreateControllers(const std::vector<ControllerSpec>& controllers);
   template <class System>
   void CreateDevices(const std::vector<PluginSpec>& devices, const char* what,
-                     std::vector<std::string>& labels, std::vector<System*>& systems,
-                     std::vector<ConfigNode>& nodes, std::vector<std::unique_ptr<System>>& owned);
+                     std::vector<std::string>& labels, std::vector<std::string>& names,
+                     std::vector<System*>& systems, std::vector<ConfigNode>& nodes,
+                     std::vector<std::unique_ptr<System>>& owned);
   void CreateEngines(const std::vector<EngineSpec>& engines);
   void CreateRenderers(const std::vector<PluginSpec>& renderers);
   bool CheckMemory(const ArenaSpec& arena);

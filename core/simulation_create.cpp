@@ -102,10 +102,10 @@ void Simulation::CreateControllers(const std::vector<ControllerSpec>& controller
     config->entry = entry;
     config->node = node;
     config->params = c.params;
-    CreateDevices(c.sensors, "sensor", config->sensor_labels, config->sensors, config->sensor_nodes,
-                  sensor_systems_);
-    CreateDevices(c.actuators, "actuator", config->actuator_labels, config->actuators,
-                  config->actuator_nodes, actuator_systems_);
+    CreateDevices(c.sensors, "sensor", config->sensor_labels, config->sensor_names,
+                  config->sensors, config->sensor_nodes, sensor_systems_);
+    CreateDevices(c.actuators, "actuator", config->actuator_labels, config->actuator_names,
+                  config->actuators, config->actuator_nodes, actuator_systems_);
     controller_configs_.push_back(std::move(config));
   }
 }
@@ -113,7 +113,8 @@ void Simulation::CreateControllers(const std::vector<ControllerSpec>& controller
 // One system per device element of a controller's <sensors> or <actuators>.
 template <class System>
 void Simulation::CreateDevices(const std::vector<PluginSpec>& devices, const char* what,
-                               std::vector<std::string>& labels, std::vector<System*>& systems,
+                               std::vector<std::string>& labels, std::vector<std::string>& names,
+                               std::vector<System*>& systems,
                                std::vector<ConfigNode>& nodes,
                                std::vector<std::unique_ptr<System>>& owned) {
   for (const PluginSpec& d : devices) {
@@ -124,6 +125,7 @@ void Simulation::CreateDevices(const std::vector<PluginSpec>& devices, const cha
     system->Bind(this);
     system->Configure(node);
     labels.push_back(d.label);
+    names.push_back(entry->info.label);
     systems.push_back(system.get());
     nodes.push_back(node);
     owned.push_back(std::move(system));

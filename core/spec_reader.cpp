@@ -238,6 +238,10 @@ void SpecReader::ReadControllers(const ConfigNode& root) {
       ids[id] = node.line();
     }
     if (!LoadLibraryAttribute(node)) continue;
+    // A controller host shipped with Colony (<lua_controller>) is a plugin of
+    // the same name, loaded on first use when no library= names another.
+    if (!node.Has("library") && !Registry<Controller>::Get().Find(node.name()))
+      LoadPluginLibrary(node.name(), "");
     const auto* entry = FindPlugin<Controller>(node, "controller", node.name(), "default");
     if (!entry) {
       if (!node.Has("library")) {
