@@ -102,8 +102,8 @@ void Simulation::CreateControllers(const std::vector<ControllerSpec>& controller
     config->entry = entry;
     config->node = node;
     config->params = c.params;
-    CreateDevices(c.sensors, "sensor", config->sensor_labels, config->sensor_names,
-                  config->sensors, config->sensor_nodes, sensor_systems_);
+    CreateDevices(c.sensors, "sensor", config->sensor_labels, config->sensor_names, config->sensors,
+                  config->sensor_nodes, sensor_systems_);
     CreateDevices(c.actuators, "actuator", config->actuator_labels, config->actuator_names,
                   config->actuators, config->actuator_nodes, actuator_systems_);
     controller_configs_.push_back(std::move(config));
@@ -114,8 +114,7 @@ void Simulation::CreateControllers(const std::vector<ControllerSpec>& controller
 template <class System>
 void Simulation::CreateDevices(const std::vector<PluginSpec>& devices, const char* what,
                                std::vector<std::string>& labels, std::vector<std::string>& names,
-                               std::vector<System*>& systems,
-                               std::vector<ConfigNode>& nodes,
+                               std::vector<System*>& systems, std::vector<ConfigNode>& nodes,
                                std::vector<std::unique_ptr<System>>& owned) {
   for (const PluginSpec& d : devices) {
     const ConfigNode node = Node(d.node);
