@@ -12,7 +12,8 @@ set -euo pipefail
 cd "$(dirname "$0")"
 
 PACKAGES=(g++ make cmake pkg-config python3 libeigen3-dev libtinyxml2-dev libpng-dev libgtest-dev
-          libbox2d-dev libode-dev nlohmann-json3-dev libosmesa6-dev libassimp-dev libopenmpi-dev openmpi-bin)
+          libbox2d-dev libode-dev nlohmann-json3-dev libosmesa6-dev libassimp-dev libopenmpi-dev openmpi-bin
+          liblua5.3-dev)
 SANITIZE_PACKAGES=(clang libclang-rt-dev)
 BUILD_DIR=${COLONY_BUILD_DIR:-build}
 
