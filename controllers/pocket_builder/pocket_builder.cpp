@@ -838,16 +838,20 @@ class PocketBuilder : public Controller {
     }
     stalled_ticks_ = 0;
     // Held up for 3 s with nothing in the rules against moving (a heap, a
-    // landmark or a robot the ring sees, often at an end of the boundary):
-    // 2 s straight away from the boundary, then on.
+    // landmark, often at an end of the boundary, or a robot coming the other
+    // way on the other path): 1.5 to 3 s straight away from the boundary,
+    // then on. Two robots head-on must not both back off the same way: the
+    // one on the main path (nearer the boundary) moves towards the boundary
+    // instead, so the two paths part.
     stuck_ticks_ = forward_ < 0.2 * slow_ * tick_ ? stuck_ticks_ + 1 : 0;
     if (stuck_ticks_ * tick_ > 3) {
       stuck_ticks_ = 0;
-      backoff_ticks_ = static_cast<int>(2 / tick_);
+      backoff_ticks_ = static_cast<int>(rng().Uniform(1.5, 3) / tick_);
+      backoff_inwards_ = lane_ == kMainPath && RobotInFront() && f.distance > path_distance_;
     }
     if (backoff_ticks_ > 0) {
       --backoff_ticks_;
-      swarm::SteerTowards(Wrap(f.psi_p + M_PI), speed_, *wheels_);
+      swarm::SteerTowards(Wrap(f.psi_p + (backoff_inwards_ ? 0 : M_PI)), speed_, *wheels_);
       return;
     }
     const double target = lane_ == kMainPath ? path_distance_ : path_distance_ + lane_gap_;
@@ -948,10 +952,11 @@ class PocketBuilder : public Controller {
   std::vector<SeenRobot> robots_;
   int lane_ = kMainPath, lambda_ = kMainPath;
   int wait_ticks_ = 0;
-  int stalled_ticks_ = 0;  // consecutive steps stopped by a swarm rule
-  int bypass_ticks_ = 0;   // steps left ignoring the swarm rules
-  int backoff_ticks_ = 0;  // approach: steps left backing off
-  int stuck_ticks_ = 0;    // consecutive steps on a path without moving, the rules allowing
+  int stalled_ticks_ = 0;         // consecutive steps stopped by a swarm rule
+  int bypass_ticks_ = 0;          // steps left ignoring the swarm rules
+  int backoff_ticks_ = 0;         // approach: steps left backing off
+  bool backoff_inwards_ = false;  // deploy: backing off towards the boundary
+  int stuck_ticks_ = 0;           // consecutive steps on a path without moving, the rules allowing
 };
 
 }  // namespace
