@@ -1,5 +1,7 @@
-// Simulated differential steering: wheel speed commands are clamped to
-// +-max_speed, and the wheels reach them no faster than max_acceleration;
+// Simulated differential steering: wheel speed commands beyond +-max_speed
+// run at max_speed, with a warning once per robot (a controller written for
+// cm/s gives 100 times the speed it means: that must not pass unnoticed);
+// the wheels reach them no faster than max_acceleration;
 // the engine then moves the robot with the resulting wheel speeds. A robot
 // without power (DriveState::powered false) is commanded to stop.
 #include <algorithm>
@@ -7,6 +9,8 @@
 
 #include "actuators/differential_steering/differential_steering.h"
 #include "core/device.h"
+#include "core/log.h"
+#include "core/text.h"
 #include "core/simulation.h"
 
 namespace colony {
@@ -14,6 +18,7 @@ namespace {
 
 struct SteeringInstance : DifferentialSteering, InstanceBase {
   using Interface = DifferentialSteering;
+  bool warned_speed = false, warned_not_finite = false;
 };
 
 class SteeringSystem : public ActuatorSystem {
@@ -40,7 +45,26 @@ class SteeringSystem : public ActuatorSystem {
       DriveState& d = *space.drive(s.robot.index);
       const double limit = max_speed_ > 0 ? std::min(max_speed_, d.max_speed) : d.max_speed;
       // NaN commands stop the wheels rather than poisoning the state.
-      auto clamp = [&](double v) { return std::isfinite(v) ? std::clamp(v, -limit, limit) : 0.0; };
+      auto clamp = [&](double v) {
+        if (!std::isfinite(v)) {
+          if (!s.warned_not_finite) {
+            s.warned_not_finite = true;
+            LogWarning("robot '" + space.id(s.robot.index) +
+                       "': differential_steering wheel speed is not a finite number; that wheel "
+                       "stops (said once per robot)");
+          }
+          return 0.0;
+        }
+        if (std::abs(v) <= limit) return v;
+        if (!s.warned_speed) {
+          s.warned_speed = true;
+          LogWarning("robot '" + space.id(s.robot.index) + "': differential_steering wheel speed " +
+                     FormatNumber(v) + " m/s is beyond the wheels' limit, " + FormatNumber(limit) +
+                     " m/s; the wheel runs at " + FormatNumber(std::clamp(v, -limit, limit)) +
+                     " m/s (said once per robot)");
+        }
+        return std::clamp(v, -limit, limit);
+      };
       // Without power (e.g. an empty battery) the wheels are commanded to stop.
       d.target_left = d.powered ? clamp(s.target_left()) : 0.0;
       d.target_right = d.powered ? clamp(s.target_right()) : 0.0;
@@ -57,7 +81,8 @@ class SteeringSystem : public ActuatorSystem {
 
 COLONY_REGISTER_ACTUATOR(
     SteeringSystem, "differential_steering", "default",
-    "left and right wheel speeds (m/s), clamped to max_speed and limited in acceleration",
+    "left and right wheel speeds (m/s), at most max_speed (beyond: a warning) and limited in "
+    "acceleration",
     (std::vector<AttributeDoc>{
         {"max_speed", "a number > 0 (m/s)", "the robot's (marXbot: 0.3)",
          "speed limit of each wheel"},

@@ -66,7 +66,8 @@ COLONY_REGISTER_ACTUATOR(
         {"turret_speed", "a number > 0 (rad/s)", "1", "how fast the turret turns"},
         {"reach", "a number > 0 (m)", "0.02",
          "how far beyond the body the jaws close on something"},
-    }));
+    }),
+    {"footbot_gripper"});
 
 }  // namespace
 }  // namespace colony

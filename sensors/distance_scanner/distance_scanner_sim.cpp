@@ -393,7 +393,7 @@ COLONY_REGISTER_SENSOR(
     DistanceScannerSystem, "distance_scanner", "default",
     "rotating scanner of 4 Sharp IR sensors (2 short, 2 long range): (angle, distance) "
     "readings with each sensor's dead zone and folded response curve",
-    ScannerAttributes());
+    ScannerAttributes(), {"footbot_distance_scanner"});
 
 }  // namespace
 }  // namespace colony

@@ -41,7 +41,8 @@ class GripperSensorSystem : public SensorSystem {
 };
 
 COLONY_REGISTER_SENSOR(GripperSensorSystem, "gripper", "default",
-                       "the turret angle (rad) and whether the gripper holds something", {});
+                       "the turret angle (rad) and whether the gripper holds something", {},
+                       {"footbot_turret_encoder"});
 
 }  // namespace
 }  // namespace colony

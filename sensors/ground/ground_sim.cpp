@@ -159,7 +159,7 @@ COLONY_REGISTER_SENSOR(
     GroundSystem, "ground", "default",
     "downward sensors reading the floor's grey level (0 black .. 1 white) under each sensor; "
     "0 over a ditch unless something fills it up to the floor",
-    NoiseModel::Attributes());
+    NoiseModel::Attributes(), {"footbot_base_ground", "footbot_motor_ground"});
 
 }  // namespace
 }  // namespace colony

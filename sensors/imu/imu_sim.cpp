@@ -77,7 +77,8 @@ COLONY_REGISTER_SENSOR(
          "gaussian noise on each gyroscope axis"},
         {"accel_noise_std_dev", "a number >= 0 (m/s^2)", "0",
          "gaussian noise on each accelerometer axis"},
-    }));
+    }),
+    {"footbot_imu"});
 
 }  // namespace
 }  // namespace colony

@@ -238,7 +238,7 @@ COLONY_REGISTER_SENSOR(
     LightSystem, "light", "default",
     "ring of light sensors: per sensor, the sum over visible lights of "
     "intensity / (1 + d^2) x cos(angle to the light) within +-90 degrees, in [0, 1]",
-    LightAttributes());
+    LightAttributes(), {"footbot_light"});
 
 }  // namespace
 }  // namespace colony

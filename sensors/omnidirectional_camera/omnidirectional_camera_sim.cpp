@@ -147,7 +147,7 @@ COLONY_REGISTER_SENSOR(
     "coloured blobs around the robot (other entities' lit LEDs, landmarks, visible pockets, laser "
     "spots), each with its "
     "colour, distance and bearing in the robot's frame",
-    CameraAttributes());
+    CameraAttributes(), {"colored_blob_omnidirectional_camera"});
 
 }  // namespace
 }  // namespace colony

@@ -138,7 +138,7 @@ std::vector<AttributeDoc> ProximityAttributes() {
 COLONY_REGISTER_SENSOR(ProximitySystem, "proximity", "default",
                        "ring of IR proximity sensors: one reading per sensor in [0, 1], 0.01/d of "
                        "the distance d to the nearest object, 0 beyond range",
-                       ProximityAttributes());
+                       ProximityAttributes(), {"footbot_proximity"});
 
 }  // namespace
 }  // namespace colony

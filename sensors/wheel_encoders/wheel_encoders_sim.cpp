@@ -81,7 +81,7 @@ std::vector<AttributeDoc> EncoderAttributes() {
 
 COLONY_REGISTER_SENSOR(EncoderSystem, "wheel_encoders", "default",
                        "distance each wheel moved during the last tick (m), with slip and noise",
-                       EncoderAttributes());
+                       EncoderAttributes(), {"differential_steering"});
 
 }  // namespace
 }  // namespace colony
