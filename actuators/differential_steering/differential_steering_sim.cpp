@@ -10,8 +10,8 @@
 #include "actuators/differential_steering/differential_steering.h"
 #include "core/device.h"
 #include "core/log.h"
-#include "core/text.h"
 #include "core/simulation.h"
+#include "core/text.h"
 
 namespace colony {
 namespace {
