@@ -130,6 +130,9 @@ struct FloorSpec {
   // A PNG stretched over the arena, as written in the file ("" for none); a
   // relative path is looked for beside the experiment file first.
   std::string image;
+  // source="loop_functions" (as in ARGoS): the loop functions colour the
+  // floor (LoopFunctions::FloorColor), sampled at this many pixels per metre.
+  double loop_functions_pixels_per_meter = 0;  // 0: not from loop functions
   int line = 0;  // of <floor>, for messages
 };
 

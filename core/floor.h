@@ -37,6 +37,19 @@ class Floor {
   // Returns an error message, or an empty string on success.
   std::string LoadImage(const std::string& path, double min_x, double min_y, double max_x,
                         double max_y);
+  // An image made by the program (`source` names it in messages), row 0 the
+  // max-y edge, stretched over the rectangle as LoadImage's.
+  void SetImage(int width, int height, std::vector<Color> pixels, std::string source, double min_x,
+                double min_y, double max_x, double max_y) {
+    width_ = width;
+    height_ = height;
+    pixels_ = std::move(pixels);
+    path_ = std::move(source);
+    min_x_ = min_x;
+    min_y_ = min_y;
+    max_x_ = max_x;
+    max_y_ = max_y;
+  }
   // Colour at (x, y); outside the image: the flat colour.
   Color ColorAt(double x, double y) const {
     if (width_ == 0) return color_;

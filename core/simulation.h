@@ -199,7 +199,7 @@ class Simulation {
   void CreateRenderers(const std::vector<PluginSpec>& renderers);
   bool CheckMemory(const ArenaSpec& arena);
   void BuildArena(const ArenaSpec& arena);
-  void CreateLoopFunctions(const std::optional<PluginSpec>& loop_functions);
+  void CreateLoopFunctions(const std::optional<PluginSpec>& loop_functions, const ArenaSpec& arena);
   // A plugin element of the spec, reporting to this simulation's diagnostics.
   ConfigNode Node(const ConfigNode& element) const {
     return ConfigNode(element.element(), context_.get());

@@ -74,7 +74,7 @@ void Simulation::Build(const ExperimentSpec& spec) {
   for (const auto& [type, id] : entity_types_) {
     if (type) type->Placed(space_);
   }
-  CreateLoopFunctions(spec.loop_functions);
+  CreateLoopFunctions(spec.loop_functions, spec.arena);
   diagnostics.ThrowIfAny();
   space_.UpdateIndex();
 }
@@ -298,7 +298,8 @@ void Simulation::BuildArena(const ArenaSpec& arena) {
   }
 }
 
-void Simulation::CreateLoopFunctions(const std::optional<PluginSpec>& loop_functions) {
+void Simulation::CreateLoopFunctions(const std::optional<PluginSpec>& loop_functions,
+                                     const ArenaSpec& arena) {
   if (!loop_functions) return;
   const ConfigNode node = Node(loop_functions->node);
   const auto* entry = FindEntry<LoopFunctions>(*loop_functions, node, "loop functions");
@@ -311,6 +312,29 @@ void Simulation::CreateLoopFunctions(const std::optional<PluginSpec>& loop_funct
     lf->Init(params);
   } catch (const ParamError& e) {
     params_node.Error(e.key(), e.value(), e.what());
+  }
+  if (const double ppm = arena.floor.loop_functions_pixels_per_meter; ppm > 0) {
+    if (!lf->DrawsFloor()) {
+      context_->diagnostics.Add(Diagnostic{
+          file_, arena.floor.line, "floor", "source", "loop_functions",
+          "the loop functions '" + entry->info.label +
+              "' do not colour the floor (they do not override DrawsFloor and FloorColor); "
+              "accepted: loop functions that do, or source=\"color\" or \"image\""});
+    } else {
+      const Vec3 lo = arena.center - 0.5 * arena.size, hi = arena.center + 0.5 * arena.size;
+      const int w = std::max(1, static_cast<int>(std::ceil(arena.size.x() * ppm)));
+      const int h = std::max(1, static_cast<int>(std::ceil(arena.size.y() * ppm)));
+      std::vector<Color> pixels(static_cast<size_t>(w) * h);
+      for (int py = 0; py < h; ++py) {
+        const double y = hi.y() - (py + 0.5) * arena.size.y() / h;
+        for (int px = 0; px < w; ++px) {
+          const double x = lo.x() + (px + 0.5) * arena.size.x() / w;
+          pixels[static_cast<size_t>(py) * w + px] = lf->FloorColor(x, y);
+        }
+      }
+      space_.floor().SetImage(w, h, std::move(pixels), "the loop functions '" + entry->info.label + "'",
+                              lo.x(), lo.y(), hi.x(), hi.y());
+    }
   }
   loop_functions_.push_back(std::move(lf));
   loop_function_info_.push_back(&entry->info);

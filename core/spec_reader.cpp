@@ -11,6 +11,7 @@
 #include <map>
 #include <mutex>
 
+#include "core/argos_compat.h"
 #include "core/bounds.h"
 #include "core/device.h"
 #include "core/engine.h"
@@ -494,7 +495,7 @@ void SpecReader::ReadFloor(const ConfigNode& floor) {
   const Vec3 lo = spec_.arena.center - 0.5 * s, hi = spec_.arena.center + 0.5 * s;
   FloorSpec& out = spec_.arena.floor;
   out.line = floor.line();
-  floor.CheckAttributes({"id", "color", "source", "path"});
+  floor.CheckAttributes({"id", "color", "source", "path", "pixels_per_meter"});
   floor.CheckChildren({"ditch"});
   const auto ditches = floor.Children("ditch");
   const bool too_many = static_cast<int64_t>(ditches.size()) > kMaxDitches;
@@ -527,10 +528,26 @@ void SpecReader::ReadFloor(const ConfigNode& floor) {
     }
     out.ditches.push_back(ditch);
   }
-  const std::string source =
-      floor.GetChoice("source", {"color", "image"}, floor.Has("path") ? "image" : "color");
+  const std::string source = floor.GetChoice("source", {"color", "image", "loop_functions"},
+                                             floor.Has("path") ? "image" : "color");
   out.color = floor.GetColor("color", Color::White());
   if (source == "image") out.image = floor.RequireString("path");
+  if (source == "loop_functions") {
+    // As many pixels as an image floor may have, at most.
+    const double area = std::max(s.x() * s.y(), 1e-12);
+    const double most = std::floor(std::sqrt(static_cast<double>(kMaxFloorImagePixels) / area));
+    out.loop_functions_pixels_per_meter =
+        floor.RequireDouble("pixels_per_meter", Range{0.0, most, true});
+    if (!spec_.loop_functions) {
+      floor.Error("source", "loop_functions",
+                  "the floor is coloured by the loop functions, but none are declared; accepted: "
+                  "<loop_functions library=... label=...> that colour the floor, or "
+                  "source=\"color\" or \"image\"");
+    }
+  } else if (floor.Has("pixels_per_meter")) {
+    floor.Error("pixels_per_meter", floor.GetString("pixels_per_meter", ""),
+                "only a floor with source=\"loop_functions\" takes pixels_per_meter");
+  }
 }
 
 void SpecReader::ReadCeiling(const ConfigNode& ceiling) {
@@ -766,6 +783,7 @@ ExperimentSpec ReadExperimentSpec(const ExperimentOptions& options) {
                                : options.text;
   tinyxml2::XMLDocument& doc = *spec.document->xml;
   ParseExperimentXml(text, spec.file, doc);
+  AdaptArgosDocument(doc, spec.file);
   for (const auto& o : options.overrides) ApplyOverride(doc, o, spec.file);
   SpecReader reader(spec, spec.document->context);
   reader.Read(ConfigNode(doc.RootElement(), &spec.document->context), options);
