@@ -133,7 +133,7 @@ struct FloorSpec {
   // source="loop_functions" (as in ARGoS): the loop functions colour the
   // floor (LoopFunctions::FloorColor), sampled at this many pixels per metre.
   double loop_functions_pixels_per_meter = 0;  // 0: not from loop functions
-  int line = 0;  // of <floor>, for messages
+  int line = 0;                                // of <floor>, for messages
 };
 
 // <ceiling>: a flat ceiling over the whole arena.

@@ -332,8 +332,9 @@ void Simulation::CreateLoopFunctions(const std::optional<PluginSpec>& loop_funct
           pixels[static_cast<size_t>(py) * w + px] = lf->FloorColor(x, y);
         }
       }
-      space_.floor().SetImage(w, h, std::move(pixels), "the loop functions '" + entry->info.label + "'",
-                              lo.x(), lo.y(), hi.x(), hi.y());
+      space_.floor().SetImage(w, h, std::move(pixels),
+                              "the loop functions '" + entry->info.label + "'", lo.x(), lo.y(),
+                              hi.x(), hi.y());
     }
   }
   loop_functions_.push_back(std::move(lf));
