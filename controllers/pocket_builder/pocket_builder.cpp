@@ -451,14 +451,22 @@ class PocketBuilder : public Controller {
     GoTo(reservoir_, speed_);
   }
 
-  // The point in front of the reservoir's pocket, on the robot's side of the
-  // line through its two landmarks (body frame).
+  // The point in front of the reservoir's pocket, on the structure's side of
+  // the line through its two landmarks (by odometry: the template frame's
+  // origin is where the robot last left the structure), or on the robot's
+  // side before it knows the structure. Not simply the robot's side: a robot
+  // that came round a reservoir by a wall would aim between the two.
   Point ApproachPoint() const {
     const View& v = view_;
     const double ux = v.res_b.x - v.res_a.x, uy = v.res_b.y - v.res_a.y;
     const double len = std::hypot(ux, uy);
     double nx = -uy / len, ny = ux / len;
-    if (nx * -v.pocket.x + ny * -v.pocket.y < 0) {
+    Point side{-v.pocket.x, -v.pocket.y};  // from the pocket towards the robot
+    if (have_template_) {
+      const Point origin = ToBody({0, 0});
+      side = {origin.x - v.pocket.x, origin.y - v.pocket.y};
+    }
+    if (nx * side.x + ny * side.y < 0) {
       nx = -nx;
       ny = -ny;
     }
@@ -491,8 +499,8 @@ class PocketBuilder : public Controller {
         NextPhase();
         return;
       }
-      // Pushed against a landmark or a robot (in a swarm): back off for 2 s.
-      if (swarm_ && (backoff_ticks_ > 0 || Blocked())) {
+      // Pushed against a landmark (or, in a swarm, a robot): back off for 2 s.
+      if (backoff_ticks_ > 0 || Blocked()) {
         backoff_ticks_ = backoff_ticks_ > 0 ? backoff_ticks_ - 1 : static_cast<int>(2 / tick_);
         blocked_ticks_ = 0;
         wheels_->SetLinearVelocity(-slow_, -0.5 * slow_);
@@ -708,6 +716,18 @@ class PocketBuilder : public Controller {
     }
     if (phase_ == 1) {                        // along the boundary
       if (AtEnd()) direction_ = -direction_;  // an end of the boundary: turn around
+      // Pinned for 3 s (past an end of the boundary, between a wall and the
+      // heap): 1.5 to 3 s straight away from the boundary, then on.
+      stuck_ticks_ = forward_ < 0.2 * slow_ * tick_ ? stuck_ticks_ + 1 : 0;
+      if (stuck_ticks_ * tick_ > 3) {
+        stuck_ticks_ = 0;
+        backoff_ticks_ = static_cast<int>(rng().Uniform(1.5, 3) / tick_);
+      }
+      if (backoff_ticks_ > 0) {
+        --backoff_ticks_;
+        swarm::SteerTowards(Wrap(f.psi_p + M_PI), speed_, *wheels_);
+        return;
+      }
       // Eq. 3.3, tried at each step of travel along the path (not while
       // turning on the spot at an end).
       const int n_f = CountInfluential(view_.pockets_p, delta1_);
