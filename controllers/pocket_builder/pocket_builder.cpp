@@ -691,8 +691,12 @@ class PocketBuilder : public Controller {
     // it is on the structure's side; its heading is then the camera's.
     if (swarm_ && OnStructureSide()) psi_ = VisualHeading();
     // The boundary seen from its far side (the template frame's x axis points
-    // to it from the structure's side): round the end, back by odometry.
-    if (std::cos(psi_ + f.psi_p) < 0) {
+    // to it from the structure's side): round the end, back by odometry. So
+    // too a robot pushed onto the line beyond an end of the boundary, where
+    // the direction to the line means nothing.
+    const bool on_line_past_end =
+        f.distance < kBodyRadius && (view_.ahead_max < 0 || view_.ahead_min > 0);
+    if (std::cos(psi_ + f.psi_p) < 0 || on_line_past_end) {
       detour_ = true;
       Enter(Behaviour::kGotoStructure);
       return;
