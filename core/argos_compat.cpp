@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "core/log.h"
 #include "core/registry.h"
 #include "core/text.h"
@@ -155,6 +156,73 @@ void AdaptMedia(tinyxml2::XMLElement* media, Ignored& ignored) {
   }
 }
 
+// ARGoS's parameters nest (<params><wheel_turning max_speed="10"/></params>,
+// <loop_functions ...><foraging items="15"/></loop_functions>); Colony's are
+// the attributes of one <params>. Nested elements become dotted names
+// (wheel_turning.max_speed="10"; an element with no attributes "name." = "");
+// two siblings of one name cannot, and are an error.
+void Flatten(const tinyxml2::XMLElement* e, const std::string& prefix, tinyxml2::XMLElement* params,
+             const std::string& file, std::vector<Diagnostic>& errors) {
+  std::map<std::string, int> seen;
+  for (const auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    const std::string name = prefix + c->Name();
+    if (const auto [it, fresh] = seen.emplace(c->Name(), c->GetLineNum()); !fresh) {
+      errors.push_back(Diagnostic{file, c->GetLineNum(), c->Name(), "", "",
+                                  "a second <" + std::string(c->Name()) + "> (first at line " +
+                                      std::to_string(it->second) +
+                                      "): Colony gives parameters dotted names (" + name +
+                                      ".attribute), so repeated elements cannot be told apart; "
+                                      "accepted: one element of each name"});
+      continue;
+    }
+    if (!c->FirstAttribute() && !c->FirstChildElement())
+      params->SetAttribute((name + ".").c_str(), "");
+    for (const auto* a = c->FirstAttribute(); a; a = a->Next())
+      params->SetAttribute((name + "." + a->Name()).c_str(), a->Value());
+    Flatten(c, name + ".", params, file, errors);
+  }
+}
+
+// Moves every child element of `owner` but those named in `keep` into
+// `params` (created if missing) as dotted attributes.
+void FlattenInto(tinyxml2::XMLElement* owner, tinyxml2::XMLElement* params,
+                 std::initializer_list<const char*> keep, const std::string& file,
+                 std::vector<Diagnostic>& errors) {
+  tinyxml2::XMLDocument* doc = owner->GetDocument();
+  tinyxml2::XMLElement* holder = doc->NewElement("nested");
+  for (auto* c = owner->FirstChildElement(); c;) {
+    auto* next = c->NextSiblingElement();
+    bool kept = false;
+    for (const char* k : keep) kept = kept || std::string(c->Name()) == k;
+    if (!kept) holder->InsertEndChild(c);  // moves it
+    c = next;
+  }
+  if (holder->FirstChildElement()) {
+    if (!params) {
+      params = doc->NewElement("params");
+      owner->InsertEndChild(params);
+    }
+    Flatten(holder, "", params, file, errors);
+  }
+  doc->DeleteNode(holder);
+}
+
+void FlattenParameters(tinyxml2::XMLElement* root, const std::string& file) {
+  std::vector<Diagnostic> errors;
+  if (auto* controllers = root->FirstChildElement("controllers")) {
+    for (auto* c = controllers->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      if (auto* params = c->FirstChildElement("params"))
+        FlattenInto(params, params, {}, file, errors);
+    }
+  }
+  if (auto* lf = root->FirstChildElement("loop_functions")) {
+    auto* params = lf->FirstChildElement("params");
+    if (params) FlattenInto(params, params, {}, file, errors);
+    FlattenInto(lf, params, {"params"}, file, errors);
+  }
+  if (!errors.empty()) throw ConfigError(std::move(errors));
+}
+
 void AdaptVisualization(tinyxml2::XMLElement* root, Ignored& ignored) {
   auto* vis = root->FirstChildElement("visualization");
   if (!vis) return;
@@ -179,6 +247,7 @@ void AdaptArgosDocument(tinyxml2::XMLDocument& doc, const std::string& file) {
   if (auto* arena = root->FirstChildElement("arena")) AdaptArena(root, arena, file);
   AdaptControllers(root->FirstChildElement("controllers"), ignored);
   AdaptMedia(root->FirstChildElement("media"), ignored);
+  FlattenParameters(root, file);
   if (!ignored.items.empty()) {
     LogInfo(file + ": an ARGoS file; ignored: " + ignored.ToString() +
             " (GUI-only in a headless run: colony run --frames draws frames; Colony sizes its "

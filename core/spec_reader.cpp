@@ -446,7 +446,10 @@ void SpecReader::ReadLoopFunctions(const ConfigNode& root) {
   }
   node.CheckAttributes({"library", "label"});
   if (const ConfigNode params = node.Child("params"); params.valid()) {
-    params.CheckAttributes(entry->info.AttributeNames());
+    // "*": loop functions that read their own parameters (ARGoS's, through
+    // the C++ compatibility layer).
+    const auto names = entry->info.AttributeNames();
+    if (std::find(names.begin(), names.end(), "*") == names.end()) params.CheckAttributes(names);
   }
   spec_.loop_functions = PluginSpec{label, "default", "", node};
 }

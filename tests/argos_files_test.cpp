@@ -176,6 +176,32 @@ TEST(ArgosFiles, RobotFiguresAndNoiseLevelReachTheDevices) {
   EXPECT_FALSE(node(c.sensors, "footbot_light").Has("implementation"));
 }
 
+// ARGoS's nested parameters become dotted names on <params>; two siblings of
+// one name cannot, and are an error naming both lines.
+TEST(ArgosFiles, NestedParametersBecomeDottedNames) {
+  std::string text = kArgosFile;
+  const std::string flat = "<params alpha=\"7.5\" delta=\"0.1\" velocity=\"0.05\" />";
+  text.replace(text.find(flat), flat.size(),
+               "<params alpha=\"7.5\" delta=\"0.1\" velocity=\"0.05\">\n"
+               "        <wheel_turning max_speed=\"10\"><limits hard=\"yes\"/></wheel_turning>\n"
+               "        <flag/>\n"
+               "      </params>");
+  ExperimentOptions options;
+  options.text = text;
+  const ExperimentSpec spec = ReadExperimentSpec(options);
+  const Params& p = spec.controllers.at(0).params;
+  EXPECT_EQ(p.GetString("alpha", ""), "7.5");
+  EXPECT_EQ(p.GetString("wheel_turning.max_speed", ""), "10");
+  EXPECT_EQ(p.GetString("wheel_turning.limits.hard", ""), "yes");
+  EXPECT_TRUE(p.Has("flag."));
+
+  text.replace(text.find("<flag/>"), 7, "<wheel_turning max_speed=\"20\"/>");
+  const std::string error = testing::LoadError(text);
+  EXPECT_NE(error.find(":25: <wheel_turning>: a second <wheel_turning> (first at line 24)"),
+            std::string::npos)
+      << error;
+}
+
 // A Colony file is never rewritten: ARGoS's GUI sections and attributes there
 // are errors, as any unknown element or attribute.
 TEST(ArgosFiles, ColonyFilesAreNotRewritten) {
