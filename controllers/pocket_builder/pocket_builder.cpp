@@ -671,6 +671,15 @@ class PocketBuilder : public Controller {
       Enter(Behaviour::kExplore);
       return;
     }
+    // Pushed against a landmark (an end of the boundary on a detour) or a
+    // robot: back off on an arc for 1.5 to 3 s, then on.
+    if (backoff_ticks_ > 0 || Blocked()) {
+      backoff_ticks_ =
+          backoff_ticks_ > 0 ? backoff_ticks_ - 1 : static_cast<int>(rng().Uniform(1.5, 3) / tick_);
+      blocked_ticks_ = 0;
+      wheels_->SetLinearVelocity(-slow_, -0.5 * slow_);
+      return;
+    }
     GoTo(goal, speed_);
   }
 
