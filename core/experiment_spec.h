@@ -51,6 +51,10 @@ struct ExperimentOptions {
   std::vector<std::string> overrides;  // "path=value", see ApplyOverride (core/overrides.h)
   std::optional<int> threads;          // replaces <system threads>
   std::optional<uint64_t> seed;        // replaces <experiment random_seed>
+  // The folder the run's files go to (`colony run --out`, or the fresh one
+  // under runs/); "" when the run writes none (a test, a library user). Loop
+  // functions write their own files there (Simulation::run_folder()).
+  std::string run_folder;
 };
 
 // <output>.
@@ -161,6 +165,7 @@ struct ArenaSpec {
 struct ExperimentSpec {
   std::string file;                        // names the experiment in messages ("<string>" for text)
   std::shared_ptr<SpecDocument> document;  // what the plugin elements point into
+  std::string run_folder;                  // ExperimentOptions::run_folder
 
   // <framework>
   double dt = 0.1;            // seconds per tick: 1 / ticks_per_second

@@ -96,6 +96,9 @@ class Simulation {
   // command line means the calling thread only, so it reads 1.
   int threads() const { return threads_; }
   const std::string& file() const { return file_; }
+  // Where this run's files go ("" when it writes none): loop functions put
+  // their own output there, so that runs of a sweep never share a file.
+  const std::string& run_folder() const { return run_folder_; }
   // The experiment file as resolved (overrides applied), as XML text ("" for
   // a spec without a document). Changes a program made to the spec after
   // reading it are not in it.
@@ -257,6 +260,7 @@ class Simulation {
 
   // File and parsed document (the plugins' elements; ResolvedXml), and the
   // problems found building.
+  std::string run_folder_;
   std::string file_;
   std::shared_ptr<const SpecDocument> document_;
   std::unique_ptr<ConfigContext> context_;

@@ -52,6 +52,7 @@ std::unique_ptr<Simulation> Simulation::Load(const ExperimentOptions& options) {
 
 void Simulation::Build(const ExperimentSpec& spec) {
   file_ = spec.file;
+  run_folder_ = spec.run_folder;
   document_ = spec.document;
   context_ = std::make_unique<ConfigContext>();
   context_->file = file_;

@@ -779,6 +779,7 @@ void SpecReader::ReadDistribute(const ConfigNode& node) {
 ExperimentSpec ReadExperimentSpec(const ExperimentOptions& options) {
   ExperimentSpec spec;
   spec.file = options.file.empty() ? std::string("<string>") : options.file;
+  spec.run_folder = options.run_folder;
   spec.document = std::make_shared<SpecDocument>();
   spec.document->context.file = spec.file;
   const std::string text = options.text.empty() && !options.file.empty()

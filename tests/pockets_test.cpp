@@ -3,6 +3,9 @@
 // boundary within the run's time, the same way at any thread count; and the
 // deposition rules of eq. 3.3 and 3.5 on controlled scenes.
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
 #include <vector>
 
 #include "controllers/pocket_builder/deposition.h"
@@ -171,6 +174,24 @@ TEST(DepositionRules, XProbabilityPeaksOverThePockets) {
   EXPECT_LT(pocket_builder::XDepositionProbability(0.2, k2, sigma), 1e-10);
   EXPECT_EQ(pocket_builder::MeanInfluentialX({{0.3, 0.3}}, 0.06, d_m, n_f), 0.0);
   EXPECT_EQ(n_f, 0);
+}
+
+// `colony run --out DIR` leaves pockets.csv beside metrics.csv: one row per
+// pocket, the 30 the file declares and the one the reservoir supplies.
+TEST(PocketsRunFolder, FinalPositionsGoToTheRunFolder) {
+  const auto out = testing::FreshTempDir("colony_pockets_test", "csv");
+  const std::string command = std::string(COLONY_EXE) +
+                              " run " COLONY_SOURCE_DIR
+                              "/experiments/pockets_single.xml --quiet "
+                              "--set framework.experiment.length=3 --out " +
+                              out.string() + " 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  const std::string csv = testing::ReadFile(out / "pockets.csv");
+  ASSERT_EQ(csv.rfind("id,x,y,z,along,across,occlusion,held,deposited\n", 0), 0u) << csv;
+  size_t rows = 0;
+  for (char c : csv) rows += c == '\n' ? 1 : 0;
+  EXPECT_GE(rows, 2u) << csv;  // the header and at least the reservoir's pocket
+  std::filesystem::remove_all(out);
 }
 
 }  // namespace

@@ -204,6 +204,10 @@ int Run(const std::vector<std::string>& args) {
   }
   colony::InstallCrashHandlers();
 
+  // The run folder is named before loading, so that loop functions know where
+  // their own files go; it is created after.
+  if (out_dir.empty()) out_dir = colony::FreshRunDir("runs", options.file);
+  options.run_folder = out_dir;
   const auto t0 = std::chrono::steady_clock::now();
   auto sim = colony::Simulation::Load(options);
   if ((!frames_dir.empty() || !video.empty()) && sim->renderers().empty()) {
@@ -214,7 +218,6 @@ int Run(const std::vector<std::string>& args) {
   }
   const double load_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (out_dir.empty()) out_dir = colony::FreshRunDir("runs", options.file);
   colony::RunOutput output(out_dir, *sim);
   Progress progress(!quiet && isatty(STDERR_FILENO));
   colony::InstallStopHandlers();

@@ -230,11 +230,15 @@ class PocketMetrics : public LoopFunctions {
     }
   }
 
-  // The CSV's path; its folder must exist (a loop function is not told the
-  // run folder, so the experiment names the file).
+  // The CSV's path: `csv` if given (its folder must exist), else pockets.csv
+  // in the run folder (made by the program after loading), else none.
   void ReadCsv(const Params& params) {
     csv_ = params.GetString("csv", "");
-    if (csv_.empty()) return;
+    if (csv_.empty()) {
+      if (!sim().run_folder().empty())
+        csv_ = (std::filesystem::path(sim().run_folder()) / "pockets.csv").string();
+      return;
+    }
     const std::filesystem::path folder = std::filesystem::absolute(csv_).parent_path();
     if (!std::filesystem::is_directory(folder)) {
       throw ParamError("csv", csv_,
