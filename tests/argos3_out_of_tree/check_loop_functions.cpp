@@ -46,10 +46,14 @@ class CDiffusionCheck : public CLoopFunctions {
     m_fMinWallClearance = 1e9;
     m_fMinRobotGap = 1e9;
     m_fInitialDispersion = Dispersion(Positions(GetSpace()));
+    m_cPrevious = Positions(GetSpace());
+    m_fMaxSpeed = 0;
   }
   virtual void PostStep() {
     const std::map<std::string, CVector2> cPositions = Positions(GetSpace());
     for (const auto& p : cPositions) {
+      /* The file runs 10 ticks per second */
+      m_fMaxSpeed = Max(m_fMaxSpeed, Distance(p.second, m_cPrevious[p.first]) / 0.1);
       const Real fClearance =
           WALL_INNER_FACE - Max(Abs(p.second.GetX()), Abs(p.second.GetY())) - FOOTBOT_RADIUS;
       m_fMinWallClearance = Min(m_fMinWallClearance, fClearance);
@@ -60,6 +64,7 @@ class CDiffusionCheck : public CLoopFunctions {
       }
     }
     m_fFinalDispersion = Dispersion(cPositions);
+    m_cPrevious = cPositions;
   }
   virtual void PostExperiment() {
     std::ofstream cOut("diffusion.txt");
@@ -67,11 +72,14 @@ class CDiffusionCheck : public CLoopFunctions {
          << "min_robot_gap " << m_fMinRobotGap << "\n"
          << "initial_dispersion " << m_fInitialDispersion << "\n"
          << "final_dispersion " << m_fFinalDispersion << "\n"
-         << "dispersion_growth " << m_fFinalDispersion / m_fInitialDispersion << "\n";
+         << "dispersion_growth " << m_fFinalDispersion / m_fInitialDispersion << "\n"
+         << "max_speed " << m_fMaxSpeed << "\n";
   }
 
  private:
   Real m_fMinWallClearance, m_fMinRobotGap, m_fInitialDispersion, m_fFinalDispersion;
+  Real m_fMaxSpeed;
+  std::map<std::string, CVector2> m_cPrevious;
 };
 
 /* Flocking: how aligned the headings are (1: all the same) at the start

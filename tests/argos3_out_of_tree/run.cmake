@@ -59,6 +59,10 @@ message(STATUS "diffusion: closest to a wall ${d_min_wall_clearance} m, closest 
 expect("a robot touched a wall (clearance ${d_min_wall_clearance} m)"
        d_min_wall_clearance GREATER 0.005)
 expect("the swarm did not spread out (x${d_dispersion_growth})" d_dispersion_growth GREATER 2)
+# velocity="5" in the file is ARGoS's cm/s: the robots drive at 5 cm/s, not
+# 5 m/s (nor the marXbot's 0.3 m/s limit).
+expect("the fastest robot moved at ${d_max_speed} m/s, not 0.05" d_max_speed GREATER 0.045)
+expect("the fastest robot moved at ${d_max_speed} m/s, not 0.05" d_max_speed LESS 0.0505)
 
 # Flocking over range-and-bearing: headings align, every robot hears
 # neighbours (LEDs green), the flock stays together and moves.
