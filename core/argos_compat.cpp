@@ -54,14 +54,15 @@ void AdaptDevice(tinyxml2::XMLElement* d, Ignored& ignored) {
   if (const char* level = d->Attribute("noise_level")) {
     char* end = nullptr;
     const double v = std::strtod(level, &end);
-    if (end != level && *end == '\0' && std::isfinite(v) && v >= 0) {
-      if (v > 0 && !d->Attribute("noise")) {
+    if (end != level && *end == '\0' && std::isfinite(v) && v >= 0 && !d->Attribute("noise")) {
+      if (v > 0) {
         d->SetAttribute("noise", "uniform");
         d->SetAttribute("noise_range", (FormatNumber(-v) + "," + FormatNumber(v)).c_str());
       }
       d->DeleteAttribute("noise_level");
     }
-    // Otherwise left as it is: the device reports it as an unknown attribute.
+    // Otherwise (not a number >= 0, or beside Colony's own noise attribute)
+    // left as it is: the device reports it as an unknown attribute.
   }
   // ARGoS's LEDs name the medium that shows them; Colony's LED medium sees
   // every robot's LEDs.
