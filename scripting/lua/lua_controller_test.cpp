@@ -367,6 +367,55 @@ TEST(LuaRobotTable, ArgosNamesShapesUnitsAndExactReadings) {
   fs::remove_all(dir);
 }
 
+// The foot-bot's gripper, turret encoder and distance scanner (dynamics2d
+// simulates the gripper): ARGoS's tables and functions, distances in cm, -2
+// with nothing in range, and the scanner's controls Colony lacks as errors.
+TEST(LuaRobotTable, GripperTurretAndDistanceScanner) {
+  if (!testing::HaveEngine("dynamics2d")) GTEST_SKIP() << "built without dynamics2d";
+  const std::string script = R"lua(
+local function check(condition, what) if not condition then error("check failed: " .. what, 2) end end
+local nearest = math.huge
+ticks = 0
+function init()
+   check(type(robot.gripper.lock_positive) == "function" and type(robot.gripper.unlock) == "function",
+         "robot.gripper")
+   check(robot.turret.rotation == 0 and robot.turret.set_rotation == nil,
+         "robot.turret.rotation only: no footbot_turret actuator declared")
+   robot.distance_scanner.enable()
+   local ok, message = pcall(robot.distance_scanner.set_rpm, 60)
+   check(not ok and message:find("robot.distance_scanner.set_rpm() is not available in Colony", 1, true),
+         "set_rpm: " .. tostring(message))
+end
+function step()
+   ticks = ticks + 1
+   local previous = -math.huge
+   for _, r in ipairs(robot.distance_scanner.short_range) do
+      check(r.angle >= previous, "readings in angle order")
+      previous = r.angle
+      check(r.distance == -2 or r.distance > 0, "distance in cm or -2: " .. r.distance)
+      if r.distance > 0 and r.distance < nearest then nearest = r.distance end
+   end
+   if ticks == 20 then
+      -- The wall's face is 25 cm ahead of the robot's axis.
+      check(math.abs(nearest - 25) < 1.5, "nearest short-range reading 25 cm, not " .. nearest)
+   end
+   robot.gripper.unlock()
+end
+)lua";
+  const std::string xml =
+      ArgosFile("script=\"dev.lua\"", 1, "<footbot_distance_scanner/><footbot_turret_encoder/>",
+                "<differential_steering/><footbot_gripper/>");
+  std::string text = xml;
+  text.replace(text.find("<kinematics2d id=\"k2d\"/>"), 24, "<dynamics2d id=\"d2d\"/>");
+  text.replace(text.find("</arena>"), 8,
+               "<box id=\"wall\" size=\"0.1,1,0.5\" movable=\"false\">"
+               "<body position=\"-0.7,0,0\"/></box></arena>");
+  const fs::path dir = WriteFiles("devices", {{"exp.argos", text}, {"dev.lua", script}});
+  auto sim = Load((dir / "exp.argos").string(), {"framework.experiment.length=2"});
+  while (!sim->Done()) ASSERT_NO_THROW(sim->Step()) << "tick " << sim->tick() + 1;
+  fs::remove_all(dir);
+}
+
 // --- errors --------------------------------------------------------------------------------------
 
 // Runs `script` (as bad.lua) on three robots; returns what `colony run` says.
