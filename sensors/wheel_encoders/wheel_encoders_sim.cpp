@@ -30,7 +30,10 @@ class EncoderSystem : public SensorSystem {
     return {DriveState::kComponentName};
   }
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
-    return &instances_.Add(robot, rng);
+    EncoderInstance& e = instances_.Add(robot, rng);
+    // The wheel base is known from the start (a controller's Init reads it).
+    if (const DriveState* d = sim().space().drive(robot.index)) e.Set(0, 0, d->wheel_base);
+    return &e;
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<WheelEncoders*>(s)); }
   size_t size() const override { return instances_.size(); }
