@@ -13,19 +13,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status;
-  std::string output;  // stdout and stderr
-};
+using Result = colony::testing::CommandResult;
 
 Result Colony(const std::string& args) {
-  const std::string command = std::string(COLONY_EXE) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  return colony::testing::RunCommand(std::string(COLONY_EXE) + " " + args);
 }
 
 using colony::testing::ReadFile;

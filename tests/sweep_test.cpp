@@ -25,20 +25,10 @@ namespace fs = std::filesystem;
 
 const std::string kDiffusion = COLONY_SOURCE_DIR "/experiments/diffusion.xml";
 
-struct Result {
-  int status;
-  std::string output;  // stdout and stderr
-};
+using Result = colony::testing::CommandResult;
 
 // Runs a shell command, collecting its standard output and error.
-Result Shell(const std::string& command) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  std::string output;
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+Result Shell(const std::string& command) { return colony::testing::RunCommand(command); }
 
 // Runs the colony program, after `launcher` (e.g. "mpirun -np 2") if given.
 Result Colony(const std::string& args, const std::string& launcher = "") {

@@ -4,10 +4,12 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -116,6 +118,21 @@ class WithoutImageRenderer {
  private:
   ImageRendererFactory saved_;
 };
+
+// What a shell command printed (standard output and error together) and its
+// exit status (-1 when a signal ended it).
+struct CommandResult {
+  int status;
+  std::string output;
+};
+inline CommandResult RunCommand(const std::string& command) {
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  std::string output;
+  char buffer[4096];
+  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
 
 // The whole content of a file ("" if unreadable).
 inline std::string ReadFile(const std::filesystem::path& p) {

@@ -680,6 +680,27 @@ int RobotTable::PushKeys(lua_State* L) const {
   return first;
 }
 
+// Refills the list at stack index `list` with one fresh table of `fields`
+// fields per item, as ARGoS makes these lists anew each step (a script
+// keeping an old entry keeps its values): fill(entry, key, item) sets an
+// entry's fields, `key` the stack index of the interned keys (PushKeys).
+// Entries beyond the new count are cleared; the stack is left below `list`.
+template <class Items, class Fill>
+void RefillList(lua_State* L, int list, int key, const Items& items, int fields, Fill fill) {
+  const lua_Integer old = static_cast<lua_Integer>(lua_rawlen(L, list));
+  lua_Integer i = 0;
+  for (const auto& item : items) {
+    lua_createtable(L, 0, fields);
+    fill(lua_gettop(L), key, item);
+    lua_rawseti(L, list, ++i);
+  }
+  for (lua_Integer k = i + 1; k <= old; ++k) {
+    lua_pushnil(L);
+    lua_rawseti(L, list, k);
+  }
+  lua_settop(L, list - 1);
+}
+
 void RobotTable::Update(lua_State* L) {
   for (Binding& b : bindings_) {
     switch (b.kind) {
@@ -697,59 +718,39 @@ void RobotTable::Update(lua_State* L) {
         break;
       case Binding::Kind::kCamera: {
         if (!camera_enabled_) break;  // as ARGoS: a disabled camera keeps its last blobs
-        const auto& blobs = static_cast<const OmnidirectionalCamera*>(b.sensor)->blobs();
-        const int list = lua_gettop(L) + 1;
         lua_rawgeti(L, LUA_REGISTRYINDEX, b.table);
-        const int key = PushKeys(L);
-        const lua_Integer old = static_cast<lua_Integer>(lua_rawlen(L, list));
-        lua_Integer i = 0;
-        for (const auto& blob : blobs) {
-          lua_createtable(L, 0, 3);
-          const int entry = lua_gettop(L);
-          RawSet(L, entry, key + kDistance, blob.distance * kCm);
-          RawSet(L, entry, key + kAngle, blob.bearing);
-          lua_pushvalue(L, key + kColor);
-          lua_createtable(L, 0, 3);
-          RawSetInteger(L, entry + 2, key + kRed, blob.red);
-          RawSetInteger(L, entry + 2, key + kGreen, blob.green);
-          RawSetInteger(L, entry + 2, key + kBlue, blob.blue);
-          lua_rawset(L, entry);
-          lua_rawseti(L, list, ++i);
-        }
-        for (lua_Integer k = i + 1; k <= old; ++k) {
-          lua_pushnil(L);
-          lua_rawseti(L, list, k);
-        }
-        lua_settop(L, list - 1);
+        const int list = lua_gettop(L);
+        RefillList(L, list, PushKeys(L),
+                   static_cast<const OmnidirectionalCamera*>(b.sensor)->blobs(), 3,
+                   [L](int entry, int key, const auto& blob) {
+                     RawSet(L, entry, key + kDistance, blob.distance * kCm);
+                     RawSet(L, entry, key + kAngle, blob.bearing);
+                     lua_pushvalue(L, key + kColor);
+                     lua_createtable(L, 0, 3);
+                     RawSetInteger(L, entry + 2, key + kRed, blob.red);
+                     RawSetInteger(L, entry + 2, key + kGreen, blob.green);
+                     RawSetInteger(L, entry + 2, key + kBlue, blob.blue);
+                     lua_rawset(L, entry);
+                   });
         break;
       }
       case Binding::Kind::kRangeAndBearing: {
-        const auto& packets = static_cast<const RangeAndBearingSensor*>(b.sensor)->packets();
-        const int list = lua_gettop(L) + 1;
         lua_rawgeti(L, LUA_REGISTRYINDEX, b.table);
-        const int key = PushKeys(L);
-        const lua_Integer old = static_cast<lua_Integer>(lua_rawlen(L, list));
-        lua_Integer i = 0;
-        for (const auto& p : packets) {
-          lua_createtable(L, 0, 4);
-          const int entry = lua_gettop(L);
-          RawSet(L, entry, key + kRange, p.range * kCm);
-          RawSet(L, entry, key + kHorizontalBearing, p.bearing);
-          RawSet(L, entry, key + kVerticalBearing, p.elevation);
-          lua_pushvalue(L, key + kData);
-          lua_createtable(L, static_cast<int>(p.data.size()), 0);
-          for (size_t k = 0; k < p.data.size(); ++k) {
-            lua_pushinteger(L, p.data[k]);
-            lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
-          }
-          lua_rawset(L, entry);
-          lua_rawseti(L, list, ++i);
-        }
-        for (lua_Integer k = i + 1; k <= old; ++k) {
-          lua_pushnil(L);
-          lua_rawseti(L, list, k);
-        }
-        lua_settop(L, list - 1);
+        const int list = lua_gettop(L);
+        RefillList(L, list, PushKeys(L),
+                   static_cast<const RangeAndBearingSensor*>(b.sensor)->packets(), 4,
+                   [L](int entry, int key, const auto& p) {
+                     RawSet(L, entry, key + kRange, p.range * kCm);
+                     RawSet(L, entry, key + kHorizontalBearing, p.bearing);
+                     RawSet(L, entry, key + kVerticalBearing, p.elevation);
+                     lua_pushvalue(L, key + kData);
+                     lua_createtable(L, static_cast<int>(p.data.size()), 0);
+                     for (size_t k = 0; k < p.data.size(); ++k) {
+                       lua_pushinteger(L, p.data[k]);
+                       lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+                     }
+                     lua_rawset(L, entry);
+                   });
         break;
       }
       case Binding::Kind::kPositioning: {

@@ -82,33 +82,24 @@ class SensorAdapter {
   virtual CCI_Sensor& sensor() = 0;
 };
 
-class ProximityAdapter final : public CCI_FootBotProximitySensor, public SensorAdapter {
+// A ring of (value, angle) readings: the proximity and light sensors.
+template <class Interface, class Source>
+class RingAdapter final : public Interface, public SensorAdapter {
  public:
-  explicit ProximityAdapter(const colony::ProximitySensor& source) : source_(source) { Update(); }
+  explicit RingAdapter(const Source& source) : source_(source) { Update(); }
   void Update() override {
     const auto& in = source_.readings();
-    readings_.resize(in.size());
-    for (size_t i = 0; i < in.size(); ++i) readings_[i] = {in[i].value, CRadians(in[i].angle)};
+    this->readings_.resize(in.size());
+    for (size_t i = 0; i < in.size(); ++i)
+      this->readings_[i] = {in[i].value, CRadians(in[i].angle)};
   }
   CCI_Sensor& sensor() override { return *this; }
 
  private:
-  const colony::ProximitySensor& source_;
+  const Source& source_;
 };
-
-class LightAdapter final : public CCI_FootBotLightSensor, public SensorAdapter {
- public:
-  explicit LightAdapter(const colony::LightSensor& source) : source_(source) { Update(); }
-  void Update() override {
-    const auto& in = source_.readings();
-    readings_.resize(in.size());
-    for (size_t i = 0; i < in.size(); ++i) readings_[i] = {in[i].value, CRadians(in[i].angle)};
-  }
-  CCI_Sensor& sensor() override { return *this; }
-
- private:
-  const colony::LightSensor& source_;
-};
+using ProximityAdapter = RingAdapter<CCI_FootBotProximitySensor, colony::ProximitySensor>;
+using LightAdapter = RingAdapter<CCI_FootBotLightSensor, colony::LightSensor>;
 
 // For each of ARGoS's ground sensors (offsets in cm), the index of Colony's
 // ground sensor nearest in direction.
@@ -130,17 +121,25 @@ void MatchGround(const Readings& argos_sensors,
   }
 }
 
-class MotorGroundAdapter final : public CCI_FootBotMotorGroundSensor, public SensorAdapter {
+// ARGoS's ground sensors, each reading Colony's ground sensor nearest in
+// direction: the motor ground's grey levels, or the base ground's black and
+// white (0 below mid-grey, 1 from it).
+template <class Interface, bool kBlackOrWhite>
+class GroundAdapter final : public Interface, public SensorAdapter {
  public:
-  explicit MotorGroundAdapter(const colony::GroundSensor& source) : source_(source) { Update(); }
+  explicit GroundAdapter(const colony::GroundSensor& source) : source_(source) { Update(); }
   void Update() override {
     const auto& in = source_.readings();
     if (in.empty()) return;
+    auto& out = this->readings_;
     if (matched_size_ != in.size()) {
-      MatchGround(readings_, in, nearest_);
+      MatchGround(out, in, nearest_);
       matched_size_ = in.size();
     }
-    for (size_t j = 0; j < readings_.size(); ++j) readings_[j].Value = in[nearest_[j]].value;
+    for (size_t j = 0; j < out.size(); ++j) {
+      const float v = in[nearest_[j]].value;
+      out[j].Value = kBlackOrWhite ? (v < 0.5f ? 0.0 : 1.0) : v;
+    }
   }
   CCI_Sensor& sensor() override { return *this; }
 
@@ -149,28 +148,8 @@ class MotorGroundAdapter final : public CCI_FootBotMotorGroundSensor, public Sen
   std::vector<size_t> nearest_;
   size_t matched_size_ = 0;
 };
-
-class BaseGroundAdapter final : public CCI_FootBotBaseGroundSensor, public SensorAdapter {
- public:
-  explicit BaseGroundAdapter(const colony::GroundSensor& source) : source_(source) { Update(); }
-  void Update() override {
-    const auto& in = source_.readings();
-    if (in.empty()) return;
-    if (matched_size_ != in.size()) {
-      MatchGround(readings_, in, nearest_);
-      matched_size_ = in.size();
-    }
-    // Black-and-white sensors: 0 below mid-grey, 1 from it.
-    for (size_t j = 0; j < readings_.size(); ++j)
-      readings_[j].Value = in[nearest_[j]].value < 0.5f ? 0.0 : 1.0;
-  }
-  CCI_Sensor& sensor() override { return *this; }
-
- private:
-  const colony::GroundSensor& source_;
-  std::vector<size_t> nearest_;
-  size_t matched_size_ = 0;
-};
+using MotorGroundAdapter = GroundAdapter<CCI_FootBotMotorGroundSensor, false>;
+using BaseGroundAdapter = GroundAdapter<CCI_FootBotBaseGroundSensor, true>;
 
 class CameraAdapter final : public CCI_ColoredBlobOmnidirectionalCameraSensor,
                             public SensorAdapter {
