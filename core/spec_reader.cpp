@@ -241,8 +241,27 @@ void SpecReader::ReadControllers(const ConfigNode& root) {
     if (!LoadLibraryAttribute(node)) continue;
     // A controller host shipped with Colony (<lua_controller>) is a plugin of
     // the same name, loaded on first use when no library= names another.
-    if (!node.Has("library") && !Registry<Controller>::Get().Find(node.name()))
-      LoadPluginLibrary(node.name(), "");
+    if (!node.Has("library") && !Registry<Controller>::Get().Find(node.name())) {
+      // The plugin of that name found but refused by the loader (a missing
+      // symbol or dependency): that, not "unknown controller", is the news.
+      const std::string error = LoadPluginLibrary(node.name(), "");
+      std::string failures;
+      for (size_t at = error.find("\n    "); at != std::string::npos;
+           at = error.find("\n    ", at + 1)) {
+        const size_t end = std::min(error.find('\n', at + 1), error.size());
+        const std::string line = error.substr(at + 5, end - at - 5);
+        if (line.find(" (") != std::string::npos &&
+            line.find("(no such file)") == std::string::npos &&
+            line.find("COLONY_PLUGIN_PATH") == std::string::npos)
+          failures += "\n    " + line;
+      }
+      if (!failures.empty()) {
+        diag().Add(Diagnostic{
+            node.file(), node.line(), node.Label(), "", "",
+            "the plugin '" + node.name() + "' was found but could not be loaded:" + failures});
+        continue;
+      }
+    }
     const auto* entry = FindPlugin<Controller>(node, "controller", node.name(), "default");
     if (!entry) {
       if (!node.Has("library")) {

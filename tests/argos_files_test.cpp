@@ -276,5 +276,32 @@ TEST(WheelSpeeds, BeyondTheLimitIsAWarningNotASilentClamp) {
       << r.output;
 }
 
+// A controller element without library= loads the plugin of its name. When
+// that plugin is there but cannot be loaded, the error says so and why,
+// rather than that the controller is unknown.
+TEST(ArgosFiles, AControllerPluginThatCannotBeLoadedIsReportedWithTheReason) {
+  const auto dir = testing::FreshTempDir("colony_argos_test", "unloadable");
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "unloadable.xml";
+  std::ofstream(file) << R"(<colony>
+  <framework><experiment length="1" ticks_per_second="10" random_seed="1"/></framework>
+  <controllers><unloadable_controller id="c"/></controllers>
+  <arena size="2,2,1" center="0,0,0.5">
+    <marxbot id="mb"><body position="0,0,0"/><controller config="c"/></marxbot>
+  </arena>
+  <physics_engines><kinematics2d id="k2d"/></physics_engines>
+</colony>
+)";
+  const Result r = testing::RunCommand("COLONY_PLUGIN_PATH=" COLONY_TEST_PLUGIN_DIR " " +
+                                       std::string(COLONY_EXE) + " run " + file.string() +
+                                       " --out " + (dir / "out").string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("unloadable.xml:3"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the plugin 'unloadable_controller' was found but could not be loaded"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("undefined symbol"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace colony
