@@ -17,13 +17,18 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/log.h"
 #include "core/registry.h"
+#include "scripting/lua/lua_alloc.h"
 #include "scripting/lua/lua_host.h"
 
 namespace colony::lua {
@@ -70,6 +75,47 @@ std::string Tidy(const std::string& text) {
       out.compare(out.size() - empty.size(), empty.size(), empty) == 0)
     out.resize(out.size() - empty.size());
   return out;
+}
+
+// Appends what lua_dump writes to a std::string.
+int AppendChunk(lua_State*, const void* data, size_t size, void* out) {
+  try {
+    static_cast<std::string*>(out)->append(static_cast<const char*>(data), size);
+    return 0;
+  } catch (const std::bad_alloc&) {
+    return 1;  // lua_dump stops
+  }
+}
+
+// Loads the script at `path` as luaL_loadfile does (a first line starting
+// with '#' is skipped, line numbers kept), compiling it once per process and
+// content: the other robots load the same bytecode, debug information
+// included (errors still name the script's lines). That spares every state
+// the parser's time and the garbage it leaves behind.
+int LoadScript(lua_State* L, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) return luaL_loadfile(L, path.c_str());  // says why
+  static std::mutex mutex;
+  static std::map<std::string, std::pair<std::string, std::string>> compiled;  // text, bytecode
+  const std::string name = "@" + path;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    const auto it = compiled.find(path);
+    if (it != compiled.end() && it->second.first == text)
+      return luaL_loadbufferx(L, it->second.second.data(), it->second.second.size(), name.c_str(),
+                              "b");
+  }
+  std::string source = text;
+  if (source.compare(0, 3, "\xEF\xBB\xBF") == 0) source.erase(0, 3);  // a UTF-8 mark
+  if (!source.empty() && source[0] == '#') source.erase(0, source.find('\n'));
+  const int status = luaL_loadbufferx(L, source.data(), source.size(), name.c_str(), nullptr);
+  if (status != LUA_OK || source.empty() || source[0] == LUA_SIGNATURE[0]) return status;
+  std::string bytecode;
+  if (lua_dump(L, AppendChunk, &bytecode, 0) != 0) return status;
+  std::lock_guard<std::mutex> lock(mutex);
+  compiled[path] = {std::move(text), std::move(bytecode)};
+  return status;
 }
 
 // log(...) and logerr(...): the arguments one after the other, as ARGoS
@@ -272,7 +318,7 @@ class LuaController : public Controller {
 
   // A fresh Lua state with the script loaded and init() run.
   void Start() {
-    L_ = luaL_newstate();
+    L_ = NewArenaState();
     if (L_ == nullptr) throw std::runtime_error("could not create a Lua state (out of memory)");
     lua_pushcfunction(L_, Traceback);  // stays at kTraceback
     luaL_openlibs(L_);
@@ -290,7 +336,7 @@ class LuaController : public Controller {
     robot_ = std::make_unique<RobotTable>();
     robot_->Build(L_, devices(), &rng(), params_);
     state_ = State::kFailedToStart;
-    if (luaL_loadfile(L_, script_.c_str()) != LUA_OK) {
+    if (LoadScript(L_, script_) != LUA_OK) {
       start_error_ = "Lua script " + script_ + " could not be loaded: " + PopError();
       return;
     }
@@ -363,7 +409,7 @@ class LuaController : public Controller {
   }
 
   void Close() {
-    if (L_) lua_close(L_);
+    if (L_) CloseArenaState(L_);
     L_ = nullptr;
     robot_.reset();
     state_ = State::kClosed;
