@@ -17,6 +17,8 @@ flocking controller of experiments/flocking.xml instead (range-and-bearing
 range 1 m, 2-byte payload, positioning and proximity sensors).
 
 Usage: tools/make_diffusion_benchmarks.py [--check] [N ...]   (default: every family's sizes)
+An N that no family lists among its sizes gets the kinematics2d diffusion and
+flocking scenes (diffusion_N.xml, flocking_N.xml).
 Run from anywhere; the files go to experiments/benchmarks/ of this checkout.
 --check writes nothing and exits with status 1 if a file is missing or differs
 from what the script would write (the build's tests run it).
@@ -101,7 +103,7 @@ def quadrants(arena):
 
 # (file name pattern, physics described, engines, sizes)
 FAMILIES = [
-    ("diffusion_%d", "kinematics2d", one_engine("kinematics2d"), [100, 1000, 10000, 100000]),
+    ("diffusion_%d", "kinematics2d", one_engine("kinematics2d"), [100, 1000, 10000, 100000, 1000000]),
     ("diffusion_dyn2d_%d", "one dynamics2d engine (Box2D)", one_engine("dynamics2d"), [100, 1000, 10000]),
     ("diffusion_dyn2d_quadrants_%d", "four dynamics2d engines, one per quadrant, robots migrating",
      quadrants, [100, 1000, 10000]),
@@ -209,6 +211,11 @@ def main(argv):
             for f in FAMILIES for n in f[3] if not wanted or n in wanted]
     jobs += [(pattern % n, lambda pattern=pattern, occlusions=occlusions, n=n: flocking_scene(pattern, occlusions, n))
              for pattern, occlusions, sizes in FLOCKING_FAMILIES for n in sizes if not wanted or n in wanted]
+    listed = {n for f in FAMILIES for n in f[3]} | {n for f in FLOCKING_FAMILIES for n in f[2]}
+    for n in sorted(set(wanted) - listed):
+        kinematics, flocking = FAMILIES[0], FLOCKING_FAMILIES[0]
+        jobs.append((kinematics[0] % n, lambda n=n: scene(kinematics[0], kinematics[1], kinematics[2], n)))
+        jobs.append((flocking[0] % n, lambda n=n: flocking_scene(flocking[0], flocking[1], n)))
     for name, make in jobs:
         path = os.path.normpath(os.path.join(OUT_DIR, name + ".xml"))
         text = make()
