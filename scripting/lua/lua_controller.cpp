@@ -16,6 +16,7 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -198,6 +199,66 @@ void AddMissingCompatFunctions(lua_State* L) {
   lua_pop(L, 1);
 }
 
+// pairs() in an order that is the same in every run. Lua hashes strings
+// with a seed drawn from the clock and the process's addresses, so the stock
+// pairs() visits a table's string keys in a different order from one run to
+// the next, and a script whose behaviour depends on that order would break
+// Colony's determinism. This pairs() visits integer and float keys in
+// ascending order (the array part as before), then strings in byte order,
+// then false and true, then other keys (tables, functions...) in Lua's own
+// order, whose hashes come from addresses and cannot be made stable. Lua
+// leaves the order unspecified, so every order is a valid pairs(). A
+// __pairs metamethod is honoured as the stock pairs() does; fields set to
+// nil during the traversal are skipped. next() is Lua's own.
+constexpr const char* kOrderedPairs = R"lua(
+local next, type, rawget, sort, getmetatable, error = next, type, rawget, table.sort,
+   debug.getmetatable, error
+local rank = { number = 1, string = 2, boolean = 3 }
+local function before(a, b)
+   local ta, tb = type(a), type(b)
+   if ta ~= tb then return (rank[ta] or 4) < (rank[tb] or 4) end
+   if ta == "number" or ta == "string" then return a < b end
+   if ta == "boolean" then return b and not a end
+   return false
+end
+function pairs(t)
+   local meta = getmetatable(t)
+   if meta ~= nil and meta.__pairs ~= nil then
+      local f, s, c = meta.__pairs(t)
+      return f, s, c
+   end
+   if type(t) ~= "table" then
+      error("bad argument #1 to 'pairs' (table expected, got " .. type(t) .. ")", 2)
+   end
+   local keys, n, ascending = {}, 0, true
+   for k in next, t do
+      n = n + 1
+      keys[n] = k
+      if ascending and k ~= n then ascending = false end
+   end
+   if not ascending then sort(keys, before) end
+   local i = 0
+   return function()
+      while true do
+         i = i + 1
+         local k = keys[i]
+         if k == nil then return nil end
+         local v = rawget(t, k)
+         if v ~= nil then return k, v end
+      end
+   end, t, nil
+end
+)lua";
+
+void InstallOrderedPairs(lua_State* L) {
+  if (luaL_loadbuffer(L, kOrderedPairs, std::strlen(kOrderedPairs), "=(colony pairs)") != LUA_OK ||
+      lua_pcall(L, 0, 0, 0) != LUA_OK) {
+    const std::string error = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    throw std::runtime_error("could not set up pairs(): " + error);
+  }
+}
+
 // dofile, loadfile, io.open, io.lines: a relative file name is taken from
 // the experiment file's folder (upvalue 2), where ARGoS users run ARGoS from.
 int FromExperimentFolder(lua_State* L) {
@@ -323,6 +384,7 @@ class LuaController : public Controller {
     lua_pushcfunction(L_, Traceback);  // stays at kTraceback
     luaL_openlibs(L_);
     AddMissingCompatFunctions(L_);
+    InstallOrderedPairs(L_);
     ReplaceMathRandom(L_, &math_rng_, id());
     lua_pushstring(L_, id().c_str());
     lua_pushcclosure(L_, LogFunction<LogLevel::kInfo>, 1);

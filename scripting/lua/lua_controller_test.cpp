@@ -583,6 +583,51 @@ TEST(LuaDeterminism, SameFinalHashWhateverTheThreadCount) {
 }
 
 // Each robot logs its draws; the lines, sorted, depend on the seed only.
+// Lua seeds its string hashes from the clock and the process's addresses, so
+// the stock pairs() visits string keys in an order that changes from run to
+// run. Colony's pairs() visits numbers ascending, then strings in byte order,
+// then false and true, whatever the run; __pairs is honoured; a field
+// cleared during the traversal is skipped; pairs(nil) is the usual error.
+TEST(LuaDeterminism, PairsVisitsKeysInTheSameOrderInEveryRun) {
+  const Result r = RunScript("pairs", R"lua(
+local function order(t)
+   local seen = {}
+   for k in pairs(t) do seen[#seen + 1] = tostring(k) end
+   return table.concat(seen, " ")
+end
+local function expect(got, wanted)
+   if got ~= wanted then error("order " .. got .. " instead of " .. wanted) end
+end
+function step()
+   local names = {}
+   for _, k in ipairs({"kappa", "alpha", "theta", "beta", "iota", "gamma", "eta", "delta",
+                       "zeta", "epsilon"}) do names[k] = true end
+   expect(order(names), "alpha beta delta epsilon eta gamma iota kappa theta zeta")
+   expect(order({10, 20, 30, x = 1, b = 2, [2.5] = 3, [true] = 1, [false] = 0, [-1] = 4}),
+          "-1 1 2 2.5 3 b x false true")
+   local ring = {}
+   for i in pairs(robot.proximity) do ring[#ring + 1] = i end
+   expect(table.concat(ring, ","), table.concat({1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14,
+                                                 15, 16, 17, 18, 19, 20, 21, 22, 23, 24}, ","))
+   local cleared = {a = 1, b = 2, c = 3}
+   local visited = {}
+   for k in pairs(cleared) do
+      visited[#visited + 1] = k
+      cleared.b = nil
+   end
+   expect(table.concat(visited, " "), "a c")
+   local custom = setmetatable({}, {__pairs = function(t) return next, {z = 1}, nil end})
+   expect(order(custom), "z")
+   local ok, message = pcall(pairs, nil)
+   expect(tostring(ok) .. " " .. message:match("table expected, got nil"),
+          "false table expected, got nil")
+   robot.wheels.set_velocity(1, 1)
+end
+)lua",
+                             "script=\"bad.lua\"");
+  EXPECT_EQ(r.status, 0) << r.output;
+}
+
 TEST(LuaDeterminism, RandomDrawsDependOnTheSeedOnly) {
   const std::string script = R"lua(
 local function check(condition, what) if not condition then error(what, 2) end end
