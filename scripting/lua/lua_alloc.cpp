@@ -55,9 +55,10 @@ size_t ClassSize(int c) {
   return 1536 + 512 * static_cast<size_t>(c - 22);
 }
 
-// Chunks for every arena of the process, from regions mapped once and asked
-// to be backed by huge pages. A closed state's chunks return here for the
-// next; the regions stay mapped for the life of the process.
+// Memory for every arena of the process, in chunks, from regions mapped as
+// needed and asked to be backed by huge pages. A closed state's chunks return
+// here for the next state; when the last state is closed (a simulation torn
+// down), the regions are unmapped, so the memory goes back to the system.
 class Pool {
  public:
   void* Take() {
@@ -65,12 +66,19 @@ class Pool {
     if (!free_.empty()) {
       void* chunk = free_.back();
       free_.pop_back();
+      ++taken_;
       return chunk;
     }
     if (next_ == end_) {
       void* region = mmap(nullptr, kRegionBytes + kHugePage, PROT_READ | PROT_WRITE,
                           MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
       if (region == MAP_FAILED) return nullptr;
+      try {
+        regions_.push_back(region);
+      } catch (const std::bad_alloc&) {
+        munmap(region, kRegionBytes + kHugePage);
+        return nullptr;
+      }
       const auto at = reinterpret_cast<uintptr_t>(region);
       next_ = reinterpret_cast<char*>((at + kHugePage - 1) & ~(kHugePage - 1));
       end_ = next_ + kRegionBytes;
@@ -79,16 +87,31 @@ class Pool {
     }
     void* chunk = next_;
     next_ += kChunkBytes;
+    ++taken_;
     return chunk;
   }
   void Give(const std::vector<void*>& chunks) {
     std::lock_guard<std::mutex> lock(mutex_);
-    free_.insert(free_.end(), chunks.begin(), chunks.end());
+    taken_ -= chunks.size();
+    if (taken_ > 0) {
+      try {
+        free_.insert(free_.end(), chunks.begin(), chunks.end());
+      } catch (const std::bad_alloc&) {
+        // Out of memory: those chunks stay unused until the regions go.
+      }
+      return;
+    }
+    for (void* region : regions_) munmap(region, kRegionBytes + kHugePage);
+    regions_.clear();
+    free_.clear();
+    next_ = end_ = nullptr;
   }
 
  private:
   std::mutex mutex_;
+  std::vector<void*> regions_;  // as mapped
   std::vector<void*> free_;
+  size_t taken_ = 0;  // chunks held by arenas
   char* next_ = nullptr;
   char* end_ = nullptr;
 };
