@@ -1,9 +1,11 @@
 // Image renderers: what draws the images that camera sensors read. Core
 // declares the interface; a backend (render/osmesa: OpenGL with no display
-// and no GPU) implements it and installs its factory when libcolony loads,
-// with COLONY_REGISTER_IMAGE_RENDERER. A build may have none
-// (-DCOLONY_WITH_OSMESA=OFF): whatever needs images then says so at load,
-// with NoImageRendererMessage.
+// and no GPU) implements it in a plugin, libcolony_osmesa.so, which installs
+// its factory with COLONY_REGISTER_IMAGE_RENDERER when loaded. Core loads it
+// from the plugin folders the first time HaveImageRenderer or
+// MakeImageRenderer is called, so a run that draws nothing never loads
+// OSMesa. A build may have none (-DCOLONY_WITH_OSMESA=OFF): whatever needs
+// images then says so at load, with NoImageRendererMessage.
 #pragma once
 
 #include <cstdint>
@@ -51,10 +53,14 @@ class ImageRenderer {
 using ImageRendererFactory = std::unique_ptr<ImageRenderer> (*)(const Simulation& sim);
 
 // Installs `factory` as this build's image renderer and returns the one it
-// replaces. The backend calls it once, when libcolony loads; nullptr removes
-// it (tests use that to see what a build without one does).
+// replaces. The backend calls it once, when its plugin loads; nullptr removes
+// it (tests use that to see what a build without one does: they call
+// HaveImageRenderer first, so the plugin is loaded and does not install
+// itself afterwards). A factory set before the plugin was loaded keeps it
+// from being loaded.
 ImageRendererFactory SetImageRendererFactory(ImageRendererFactory factory);
-// Whether this build has an image renderer.
+// Whether this build has an image renderer (loads the backend's plugin on
+// the first call; thread-safe).
 bool HaveImageRenderer();
 // A new image renderer for `sim`. Throws RuntimeFailure, with
 // NoImageRendererMessage, when this build has none.

@@ -110,7 +110,9 @@ inline std::string LoadError(const std::string& xml, std::vector<std::string> ov
 // -DCOLONY_WITH_OSMESA=OFF.
 class WithoutImageRenderer {
  public:
-  WithoutImageRenderer() : saved_(SetImageRendererFactory(nullptr)) {}
+  // The backend's plugin is loaded first, so that it cannot install itself
+  // later, while this object says there is none.
+  WithoutImageRenderer() : saved_((HaveImageRenderer(), SetImageRendererFactory(nullptr))) {}
   ~WithoutImageRenderer() { SetImageRendererFactory(saved_); }
   WithoutImageRenderer(const WithoutImageRenderer&) = delete;
   WithoutImageRenderer& operator=(const WithoutImageRenderer&) = delete;
