@@ -45,7 +45,8 @@ void LoadBackendOnce() {
            at = error.find("\n    ", at + 1)) {
         const size_t end = std::min(error.find('\n', at + 1), error.size());
         const std::string line = error.substr(at + 5, end - at - 5);
-        if (line.find(" (") != std::string::npos && line.find("(no such file)") == std::string::npos &&
+        if (line.find(" (") != std::string::npos &&
+            line.find("(no such file)") == std::string::npos &&
             line.find("COLONY_PLUGIN_PATH") == std::string::npos)
           LoadFailure() += "\n    " + line;
       }
