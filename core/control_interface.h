@@ -96,6 +96,27 @@ struct DeviceTable {
   const std::vector<std::string>* actuator_labels = nullptr;
   const std::vector<std::string>* actuator_names = nullptr;  // null: the labels
   Actuator* const* actuators = nullptr;
+  // The folder this run's files go to (null or "": none), for a controller
+  // that reads something a loop function or an earlier tick put there.
+  const std::string* run_folder = nullptr;
+};
+
+// Where a controller (Controller::RecordValues) or loop functions
+// (LoopFunctions::RecordRobotValues) put a few named values of one robot:
+// numbers (counters, a battery level) and short labels (a state name). They
+// become columns of the per-robot table (<output trajectories_every>, see
+// docs/data-output.md), fixed at its first record: a robot without a value
+// in a column gets an empty cell. A name must not be one of the table's own
+// columns (tick, time, id, type, x, y, z, yaw, pitch, roll), be given twice
+// for one robot, or change from number to label; such a name ends the run
+// with a message naming it and who gave it.
+class RobotValues {
+ public:
+  virtual void Set(std::string_view name, double value) = 0;
+  virtual void SetLabel(std::string_view name, std::string_view label) = 0;
+
+ protected:
+  ~RobotValues() = default;
 };
 
 // Base of every robot controller. Subclass it, register it with
@@ -107,10 +128,26 @@ class Controller {
   virtual void Init(const Params& params) { (void)params; }
   // Called once per tick, after the sensors were read.
   virtual void ControlStep() = 0;
+  // Called by Simulation::Reset (docs/embedding.md) on the new controller it
+  // built, bound and Init'ed for the robot, before the loop functions'
+  // Reset; never during a plain run. As in ARGoS, it must leave the
+  // controller as Init did (set its state, draw no random numbers), so that
+  // a reset run is the run a fresh load with that seed gives.
   virtual void Reset() {}
   virtual void Destroy() {}
+  // This robot's named values for the per-robot table (see RobotValues):
+  // called on the ticks the table records (tick 0 after Init, then after
+  // ControlStep), never when no table is recorded. It must not change the
+  // controller's state.
+  virtual void RecordValues(RobotValues& values) const { (void)values; }
 
   const std::string& id() const { return *devices_.robot_id; }
+  // The folder this run's files go to, to read from ("" when the run writes
+  // none). Controllers run in parallel: write files from loop functions.
+  const std::string& run_folder() const {
+    static const std::string none;
+    return devices_.run_folder ? *devices_.run_folder : none;
+  }
   // This robot's own random stream (deterministic whatever the thread count).
   RandomStream& rng() { return rng_; }
 

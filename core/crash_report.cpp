@@ -93,6 +93,8 @@ RunningScope::RunningScope(const RunningCode& code) : previous_(running), curren
 }
 RunningScope::~RunningScope() { running = previous_; }
 
+const RunningCode& CurrentlyRunning() { return running; }
+
 void UseAlternateSignalStack() {
   constexpr size_t kSize = 1 << 16;
   // A stack the thread already has (its own, or one a sanitizer runtime gave

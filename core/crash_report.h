@@ -36,6 +36,10 @@ class RunningScope {
   RunningCode* current_;
 };
 
+// What the calling thread is running now (kind null outside plugin code);
+// the log (core/log.h) tags its lines with its robot and tick.
+const RunningCode& CurrentlyRunning();
+
 // Installs the crash handlers (process-wide; on an alternate stack for the
 // calling thread, so a stack overflow is reported too).
 void InstallCrashHandlers();

@@ -61,6 +61,12 @@ struct ExperimentOptions {
 struct OutputConfig {
   uint64_t metrics_every = 1;  // ticks between rows of metrics.csv (0: none)
   uint64_t hash_every = 0;     // ticks between state hashes printed to hashes.csv (0: none)
+  // Ticks between records of every robot's pose and values in the
+  // trajectories table (0: none; docs/data-output.md).
+  uint64_t trajectories_every = 0;
+  enum class Format { kCsv, kHdf5 };
+  Format trajectories_format = Format::kCsv;  // trajectories.csv or trajectories.h5
+  bool trajectories_gzip = false;             // trajectories.csv.gz, or deflated HDF5 chunks
 };
 
 // The parsed experiment file (overrides applied) that the plugin elements of

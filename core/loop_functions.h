@@ -7,6 +7,7 @@
 #include "core/control_interface.h"
 #include "core/registry.h"
 #include "core/simulation_bound.h"
+#include "core/space.h"
 
 namespace colony {
 
@@ -21,6 +22,12 @@ class LoopFunctions : public SimulationBound {
   virtual void PostStep() {}
   // Ends the run early when true.
   virtual bool IsExperimentFinished() { return false; }
+  // Called by Simulation::Reset on the new loop functions it built and
+  // Init'ed, after every controller's Reset (as ARGoS calls it on reset).
+  // Reset rebuilds the loop functions, so nothing is kept from before it;
+  // Reset() must leave them as Init did, or the run differs from a fresh
+  // load's (docs/embedding.md).
+  virtual void Reset() {}
   // Loop functions that colour the floor (<floor source="loop_functions"
   // pixels_per_meter=...>, as ARGoS's GetFloorColor) return true from
   // DrawsFloor; FloorColor is then sampled once after Init, at the centre of
@@ -32,6 +39,15 @@ class LoopFunctions : public SimulationBound {
     return Color::White();
   }
   virtual void Destroy() {}
+  // Per-robot columns of the per-robot table (<output trajectories_every>;
+  // see RobotValues in core/control_interface.h): called for every robot
+  // on the ticks the table records, after its controller's RecordValues.
+  // It must not change the simulation. Loop functions write tables of their
+  // own into the run folder with core/table_writer.h.
+  virtual void RecordRobotValues(EntityHandle robot, RobotValues& values) {
+    (void)robot;
+    (void)values;
+  }
 };
 
 }  // namespace colony

@@ -3,11 +3,14 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <mutex>
 
 #include "core/config.h"
 #include "core/registry.h"
+#include "core/run_files.h"
 
 #ifndef COLONY_INSTALL_PLUGIN_DIR
 #define COLONY_INSTALL_PLUGIN_DIR "/usr/local/lib/colony"
@@ -16,6 +19,13 @@
 namespace colony {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+std::mutex loaded_mutex;
+std::vector<LoadedLibrary> loaded;
+
+}  // namespace
 
 std::vector<std::string> PluginSearchPath() {
   std::vector<std::string> dirs;
@@ -69,12 +79,28 @@ std::string LoadPluginLibrary(const std::string& spec, const std::string& base_d
     SetLoadingLibrary(c);
     void* handle = dlopen(fs::absolute(c).c_str(), RTLD_NOW | RTLD_GLOBAL);
     SetLoadingLibrary("");
-    if (handle) return "";  // kept open: registered factories live in it
+    if (handle) {
+      // Kept open: registered factories live in it.
+      const std::lock_guard lock(loaded_mutex);
+      const bool known = std::any_of(loaded.begin(), loaded.end(), [&](const LoadedLibrary& l) {
+        return l.spec == spec && l.base_dir == base_dir;
+      });
+      if (!known) {
+        const std::string path = fs::absolute(c).lexically_normal().string();
+        loaded.push_back({spec, base_dir, path, FileSha256(path)});
+      }
+      return "";
+    }
     tried += "\n    " + c + " (" + dlerror() + ")";
   }
   std::string message = "cannot load library '" + spec + "'; tried:" + tried;
   if (!has_dir) message += "\n    (set COLONY_PLUGIN_PATH to add folders to the search path)";
   return message;
+}
+
+std::vector<LoadedLibrary> LoadedPluginLibraries() {
+  const std::lock_guard lock(loaded_mutex);
+  return loaded;
 }
 
 }  // namespace colony

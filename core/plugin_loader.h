@@ -18,4 +18,16 @@ std::vector<std::string> PluginSearchPath();
 // message saying every place tried and why it failed.
 std::string LoadPluginLibrary(const std::string& spec, const std::string& base_dir);
 
+// A library LoadPluginLibrary loaded: as it was named (`spec`, `base_dir`),
+// the file it found (an absolute path) and the SHA-256 of that file's
+// content when it was loaded (for a run's provenance, summary.json).
+struct LoadedLibrary {
+  std::string spec, base_dir;
+  std::string path;
+  std::string sha256;
+};
+// Every library loaded so far in this process, in load order (one entry per
+// spec and base_dir).
+std::vector<LoadedLibrary> LoadedPluginLibraries();
+
 }  // namespace colony

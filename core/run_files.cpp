@@ -1,6 +1,7 @@
 #include "core/run_files.h"
 
 #include <fcntl.h>
+#include <openssl/evp.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -74,6 +75,36 @@ void WriteFileAtomically(const std::string& path, std::string_view text, bool sy
   if (sync) SyncFolderOf(path);
 }
 
+std::string FileSha256(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return "";
+  EVP_MD_CTX* context = EVP_MD_CTX_new();
+  bool ok = context && EVP_DigestInit_ex(context, EVP_sha256(), nullptr) == 1;
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      ok = ok && n == 0;
+      break;
+    }
+    ok = ok && EVP_DigestUpdate(context, buffer, static_cast<size_t>(n)) == 1;
+  }
+  ::close(fd);
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int size = 0;
+  ok = ok && EVP_DigestFinal_ex(context, digest, &size) == 1;
+  EVP_MD_CTX_free(context);
+  if (!ok) return "";
+  static const char kHex[] = "0123456789abcdef";
+  std::string hex;
+  for (unsigned int i = 0; i < size; ++i) {
+    hex += kHex[digest[i] >> 4];
+    hex += kHex[digest[i] & 15];
+  }
+  return hex;
+}
+
 RowFile::RowFile(std::string path)
     : path_(std::move(path)),
       buffer_(new char[kCapacity]),
@@ -96,13 +127,14 @@ RowFile::~RowFile() {
   ::close(fd_);
 }
 
-int RowFile::WriteRows(const char* rows, size_t size) {
+int RowFile::WriteRows(const char* rows, size_t size, bool block) {
   writing_.store(true);
   int error = 0;
   const size_t done = WriteAll(fd_, rows, size, error);
   size_t whole = done;
   if (error) {
     // Keep the rows that went out whole; cut the rest off the file.
+    if (block) whole = 0;
     while (whole > 0 && rows[whole - 1] != '\n') --whole;
     if (::ftruncate(fd_, static_cast<off_t>(file_size_ + whole)) == 0) ::lseek(fd_, 0, SEEK_END);
   }
@@ -133,6 +165,13 @@ void RowFile::Append(std::string_view row) {
   std::memcpy(buffer_.get() + used, row.data(), row.size());
   used_.store(used + row.size());  // the row is now whole in the buffer
   if (std::chrono::steady_clock::now() - last_write_ >= std::chrono::seconds(1)) Flush();
+}
+
+void RowFile::AppendBlock(std::string_view block) {
+  Flush();
+  if (fd_ < 0) throw RuntimeFailure(WriteErrorMessage(path_, EBADF));
+  if (const int error = WriteRows(block.data(), block.size(), true))
+    throw RuntimeFailure(WriteErrorMessage(path_, error));
 }
 
 void RowFile::Flush() {

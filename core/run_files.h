@@ -27,6 +27,10 @@ void WriteFileAtomically(const std::string& path, std::string_view text, bool sy
 // Where a write of `path` failed, as a message: "cannot write 'PATH': REASON".
 std::string WriteErrorMessage(const std::string& path, int error_number);
 
+// The SHA-256 of the file's content, as 64 lowercase hex digits (what
+// sha256sum prints), or "" when it cannot be read.
+std::string FileSha256(const std::string& path);
+
 // An append-only file of text rows (CSV). Rows are kept in a fixed buffer
 // and written out whole: when the buffer fills, when a second of wall time
 // has passed since the last write, on Flush and on Close. A write that fails
@@ -45,6 +49,11 @@ class RowFile {
   // Appends one row; `row` must end with '\n'. Throws RuntimeFailure when a
   // write it triggers fails.
   void Append(std::string_view row);
+  // Writes `block` out now, after the buffered rows: a unit of binary data
+  // (a gzip member) that the file holds whole or not at all; a write that
+  // fails part-way is cut back to the end of the previous block. Throws
+  // RuntimeFailure.
+  void AppendBlock(std::string_view block);
   // Writes every buffered row. Throws RuntimeFailure on failure.
   void Flush();
   // Flushes, syncs to disk and closes. Throws RuntimeFailure on failure.
@@ -59,8 +68,9 @@ class RowFile {
  private:
   static constexpr size_t kCapacity = 64 * 1024;
   // Writes `size` bytes of whole rows; when a write fails part-way, cuts the
-  // file back to its last whole row. Returns 0 or the errno of the failure.
-  int WriteRows(const char* rows, size_t size);
+  // file back to its last whole row (`block`: to where the write began).
+  // Returns 0 or the errno of the failure.
+  int WriteRows(const char* rows, size_t size, bool block = false);
   // WriteRows of the buffer, which it then empties.
   int WriteBuffered();
 

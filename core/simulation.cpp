@@ -12,20 +12,47 @@
 
 namespace colony {
 
+const std::vector<std::string>& Metrics::BuiltInColumns() {
+  static const std::vector<std::string> columns = {"tick", "time"};
+  return columns;
+}
+
 void Metrics::Set(const std::string& name, double value) {
   for (size_t i = 0; i < columns_.size(); ++i) {
-    if (columns_[i] == name) {
-      values_[i] = value;
-      return;
+    if (columns_[i] != name) continue;
+    if (owners_[i] && owner_ && *owners_[i] != *owner_) {
+      throw MetricNameError("metric '" + name + "' of loop functions '" + *owner_ +
+                            "' is already a metric of loop functions '" + *owners_[i] +
+                            "'; give each metric its own name");
+    }
+    values_[i] = value;
+    return;
+  }
+  const std::string who = owner_ ? "of loop functions '" + *owner_ + "' " : "";
+  for (const auto& column : BuiltInColumns()) {
+    if (name == column) {
+      throw MetricNameError("metric '" + name + "' " + who +
+                            "has the name of one of metrics.csv's own columns (" +
+                            Join(BuiltInColumns()) + "); rename the metric");
     }
   }
   if (frozen_) {
-    throw std::logic_error("metric '" + name +
-                           "' was set for the first time after metrics.csv's header was written; "
-                           "set every metric from the first tick on");
+    throw std::logic_error("metric '" + name + "' " + who +
+                           "was set for the first time after metrics.csv's header was written "
+                           "(at tick 0, after Init); set every metric in Init too");
   }
   columns_.push_back(name);
   values_.push_back(value);
+  owners_.push_back(owner_);
+}
+
+double Metrics::Value(std::string_view name) const {
+  for (size_t i = 0; i < columns_.size(); ++i) {
+    if (columns_[i] == name) return values_[i];
+  }
+  throw std::out_of_range("no metric '" + std::string(name) + "'; " +
+                          (columns_.empty() ? "the loop functions set none"
+                                            : "the loop functions set: " + Join(columns_)));
 }
 
 Simulation::Simulation() = default;
@@ -121,6 +148,7 @@ void Simulation::AttachController(Robot& robot, int line) {
   table.actuator_labels = &config.actuator_labels;
   table.actuator_names = &config.actuator_names;
   table.actuators = robot.actuators.get();
+  table.run_folder = &run_folder_;
   robot.controller->Bind(table, RandomStream::For(seed_, robot.id, "controller"));
   const ConfigNode params = config.node.Child("params");
   const ConfigNode& at = params.valid() ? params : config.node;
@@ -183,6 +211,17 @@ void Simulation::RemoveEntity(EntityHandle entity) {
 Controller* Simulation::ControllerOf(EntityHandle robot) const {
   if (!space_.IsAlive(robot) || robot_of_[robot.index] < 0) return nullptr;
   return robots_[robot_of_[robot.index]].controller.get();
+}
+
+const std::string& Simulation::ControllerLabelOf(EntityHandle robot) const {
+  static const std::string none;
+  if (!space_.IsAlive(robot) || robot_of_[robot.index] < 0) return none;
+  return robots_[robot_of_[robot.index]].config->label;
+}
+
+const char* Simulation::ControllerLibraryOf(EntityHandle robot) const {
+  if (!space_.IsAlive(robot) || robot_of_[robot.index] < 0) return nullptr;
+  return robots_[robot_of_[robot.index]].config->library;
 }
 
 const DeviceMounts& Simulation::MountsOf(EntityHandle entity) const {
@@ -365,6 +404,7 @@ template <typename Hook>
 void Simulation::CallLoopFunctions(const char* hook, uint64_t tick, Hook&& call) {
   for (size_t i = 0; i < loop_functions_.size(); ++i) {
     const PluginInfo& info = *loop_function_info_[i];
+    metrics_.SetOwner(&info.label);
     const RunningScope running({"loop functions", info.label.c_str(),
                                 info.library.empty() ? nullptr : info.library.c_str(), nullptr,
                                 tick});
@@ -381,7 +421,42 @@ void Simulation::CallLoopFunctions(const char* hook, uint64_t tick, Hook&& call)
   }
 }
 
+void Simulation::CallResetHooks() {
+  {
+    RunningScope running({"controller", nullptr, nullptr, nullptr, 0});
+    RunningCode& code = running.code();
+    for (Robot& r : robots_) {
+      if (!r.alive) continue;
+      code.label = r.config->label.c_str();
+      code.library = r.config->library;
+      code.robot = r.id.c_str();
+      auto failed = [&](const std::string& message) {
+        return RuntimeFailure("controller '" + r.config->label + "' of robot '" + r.id +
+                              "' failed in Reset: " + message);
+      };
+      try {
+        r.controller->Reset();
+      } catch (const std::exception& e) {
+        throw failed(e.what());
+      } catch (...) {
+        throw failed("it threw something that is not a std::exception");
+      }
+    }
+  }
+  CallLoopFunctions("Reset", 0, [](LoopFunctions& lf) { lf.Reset(); });
+}
+
 void Simulation::Step() {
+  if (!reset_failure_.empty()) {
+    throw RuntimeFailure("the simulation is empty: its last Reset failed (" + reset_failure_ +
+                         "); call Reset again");
+  }
+  if (busy_) {
+    throw std::logic_error(
+        "Simulation::Step was called during a tick or while the simulation was being built "
+        "(from a controller or loop functions)");
+  }
+  const BusyScope busy(busy_);
   using Clock = std::chrono::steady_clock;
   Clock::time_point mark = Clock::now();
   // Adds the time since the last mark to `phase`.
@@ -429,6 +504,12 @@ void Simulation::Step() {
 }
 
 Renderer& Simulation::AddRenderer(const std::string& xml) {
+  renderers_.push_back(NewRenderer(xml));
+  added_renderers_.push_back(xml);
+  return *renderers_.back();
+}
+
+std::unique_ptr<Renderer> Simulation::NewRenderer(const std::string& xml) {
   tinyxml2::XMLDocument fragment;
   if (fragment.Parse(xml.c_str()) != tinyxml2::XML_SUCCESS || !fragment.RootElement()) {
     throw ConfigError("AddRenderer: not well-formed XML: " + std::string(fragment.ErrorStr()));
@@ -447,8 +528,7 @@ Renderer& Simulation::AddRenderer(const std::string& xml) {
   renderer->Bind(this);
   renderer->Configure(node);
   context.diagnostics.ThrowIfAny();
-  renderers_.push_back(std::move(renderer));
-  return *renderers_.back();
+  return renderer;
 }
 
 uint64_t Simulation::StateHash() const {

@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/config.h"
@@ -36,23 +37,45 @@ namespace colony {
 class PlacementIndex;
 
 // Named values recorded by loop functions; one row of metrics.csv every
-// `metrics_every` ticks. Columns are fixed by the names set before the first
-// row is written.
+// `metrics_every` ticks, the first at tick 0 (after the loop functions'
+// Init). Columns are fixed by the names set before the first row is written:
+// set every metric in Init too.
 class Metrics {
  public:
+  // Sets metric `name`, a new column the first time. A name that is one of
+  // metrics.csv's own columns (tick, time), or another loop functions'
+  // metric, throws MetricNameError; a new name after the header was written
+  // throws std::logic_error.
   void Set(const std::string& name, double value);
   const std::vector<std::string>& columns() const { return columns_; }
   const std::vector<double>& values() const { return values_; }
+  // The value of metric `name` as last set (e.g. a fitness read after a
+  // run). Throws std::out_of_range naming it and the metrics there are.
+  double Value(std::string_view name) const;
   void Freeze() { frozen_ = true; }
+  // For the host: who sets metrics from now on (a loop functions' label),
+  // named in messages.
+  void SetOwner(const std::string* label) { owner_ = label; }
+  // metrics.csv's own columns, which no metric may be named.
+  static const std::vector<std::string>& BuiltInColumns();
 
  private:
   std::vector<std::string> columns_;
   std::vector<double> values_;
+  std::vector<const std::string*> owners_;  // who set each column first
+  const std::string* owner_ = nullptr;
   bool frozen_ = false;
 };
 
+// A metric name that collides with a built-in column or another loop
+// functions' metric (a load-time error when set in Init).
+class MetricNameError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
 // Wall time spent in each phase of Simulation::Step, summed over the ticks
-// since the load or the last ResetProfile (seconds), as Box2D's and
+// since the load or the last Reset or ResetProfile (seconds), as Box2D's and
 // MuJoCo's per-stage timers: where a tick's time goes. Reading the clock
 // costs a few tens of nanoseconds per phase and tick.
 struct StepProfile {
@@ -82,6 +105,48 @@ class Simulation {
   static std::unique_ptr<Simulation> Load(const ExperimentOptions& options);
   ~Simulation();
 
+  // Puts the simulation back to its start, for evaluating many controller
+  // parameter sets (or seeds) in one process (docs/embedding.md). What it
+  // builds is what a fresh Load of the same experiment with `seed` (none:
+  // the seed it has now) builds — the same state hash at tick 0 and at
+  // every tick after — but nothing is read from the file and no plugin
+  // library is loaded again. In order:
+  //   1. the loop functions' and every controller's Destroy is called, and
+  //      everything the experiment built is deleted: entities (those added
+  //      while running too), engines, media, sensors, actuators and their
+  //      random streams, controllers, loop functions, renderers, metrics;
+  //   2. all of it is built again from the experiment as loaded, as Load
+  //      does: entities of <distribute> placed with the new seed, tick 0;
+  //      each controller a new object, Init'ed with its <params> (as changed
+  //      by SetControllerParam), the loop functions a new object, Init'ed;
+  //   3. each controller's Reset(), in robot order, then the loop
+  //      functions' Reset(), as ARGoS calls them on reset.
+  // So a controller or loop functions keep nothing across a Reset: the
+  // program keeps what must last (a genome, the best fitness) and passes it
+  // through SetControllerParam, or sets it on the new objects after Reset.
+  // Their Reset() must leave them as Init did (ARGoS's contract: restore,
+  // draw nothing), or the run differs from a fresh load's. Pointers and
+  // references to controllers, loop functions, devices, engines, media and
+  // renderers from before a Reset are invalid after it; entity handles
+  // also (find entities again by id). Kept: this object, the thread pool,
+  // renderers added with AddRenderer (added again), the spec with its
+  // parameter changes.
+  // Throws std::logic_error, changing nothing, when called during a tick
+  // or a build (from a controller or loop functions). Throws ConfigError
+  // when building fails as a load would (a parameter out of range,
+  // <distribute> cannot place its entities with this seed), RuntimeFailure
+  // when a Destroy or Reset hook throws; the simulation is then left empty,
+  // and Step throws RuntimeFailure saying why until a Reset succeeds.
+  void Reset(std::optional<uint64_t> seed = std::nullopt);
+  // Sets parameter `key` of the controller configuration with id
+  // `controller_id` (<controllers><diffusion id="dc"><params key="...">)
+  // to `value`, for the controllers the next Reset builds; the running ones
+  // keep what they read. Throws std::invalid_argument when no controller
+  // configuration has that id (naming those there are); a key the
+  // controller does not read is reported by the next Reset, as at load.
+  void SetControllerParam(const std::string& controller_id, const std::string& key,
+                          const std::string& value);
+
   // One tick.
   void Step();
   // The experiment length is reached or the loop functions ended it.
@@ -103,6 +168,11 @@ class Simulation {
   // a spec without a document). Changes a program made to the spec after
   // reading it are not in it.
   std::string ResolvedXml() const;
+  // The parsed experiment file behind ResolvedXml (its elements keep their
+  // line numbers), or null.
+  const tinyxml2::XMLDocument* document() const {
+    return document_ ? document_->xml.get() : nullptr;
+  }
   const OutputConfig& output() const { return output_; }
 
   Space& space() { return space_; }
@@ -119,6 +189,15 @@ class Simulation {
   // Robots carrying a controller, alive now.
   size_t robot_count() const { return robot_count_; }
   Controller* ControllerOf(EntityHandle robot) const;
+  // The label of the controller `robot` runs ("" if none) and the library
+  // it came from (null: built in), for messages and crash reports.
+  const std::string& ControllerLabelOf(EntityHandle robot) const;
+  const char* ControllerLibraryOf(EntityHandle robot) const;
+  // The loop functions and their registrations (label, library), for output
+  // that asks them about every robot (core/trajectories.h).
+  size_t loop_functions_count() const { return loop_functions_.size(); }
+  LoopFunctions& loop_functions(size_t i) const { return *loop_functions_[i]; }
+  const PluginInfo& loop_functions_info(size_t i) const { return *loop_function_info_[i]; }
   // Where the entity's type carries its devices (sensor rings, LEDs...).
   const DeviceMounts& MountsOf(EntityHandle entity) const;
 
@@ -257,6 +336,31 @@ class Simulation {
   // being computed) in what they throw and in a crash report.
   template <typename Hook>
   void CallLoopFunctions(const char* hook, uint64_t tick, Hook&& call);
+  // A renderer described by an XML element (AddRenderer). Throws ConfigError.
+  std::unique_ptr<Renderer> NewRenderer(const std::string& xml);
+  // Reset (core/simulation_create.cpp): deletes what Build built, as the
+  // destructor does (Destroy hooks first, then the members in reverse order
+  // of declaration), leaving them as a new Simulation has them, except the
+  // thread pool and what Reset keeps. Returns what the first Destroy hook
+  // that threw said ("" if none did). A member added below must be cleared
+  // there too.
+  std::string TearDown();
+  // Calls every controller's Reset, then the loop functions' (step 3 of
+  // Reset). Throws RuntimeFailure naming the one that threw.
+  void CallResetHooks();
+  // Marks the simulation busy (a tick, a build, a reset) while it lives:
+  // Reset and Step refuse to run then.
+  class BusyScope {
+   public:
+    explicit BusyScope(bool& busy) : busy_(busy), was_(busy) { busy_ = true; }
+    ~BusyScope() { busy_ = was_; }
+    BusyScope(const BusyScope&) = delete;
+    BusyScope& operator=(const BusyScope&) = delete;
+
+   private:
+    bool& busy_;
+    bool was_;
+  };
 
   // File and parsed document (the plugins' elements; ResolvedXml), and the
   // problems found building.
@@ -265,6 +369,12 @@ class Simulation {
   std::shared_ptr<const SpecDocument> document_;
   std::unique_ptr<ConfigContext> context_;
   std::unique_ptr<tinyxml2::XMLDocument> generated_;  // elements made here (default media)
+  // The experiment as loaded, which Reset builds again: its seed is the
+  // last Reset's, its controllers' params as SetControllerParam left them.
+  ExperimentSpec spec_;
+  std::vector<std::string> added_renderers_;  // AddRenderer's elements, added again by Reset
+  bool busy_ = false;                         // in a tick, a build or a reset (BusyScope)
+  std::string reset_failure_;                 // why the last Reset failed ("" if it did not)
 
   uint64_t tick_ = 0, length_ticks_ = 0, seed_ = 0;
   double dt_ = 0.1;

@@ -42,7 +42,8 @@ std::string EntityLabel(const EntityDesc& desc) {
 
 std::unique_ptr<Simulation> Simulation::Create(const ExperimentSpec& spec) {
   std::unique_ptr<Simulation> sim(new Simulation());
-  sim->Build(spec);
+  sim->spec_ = spec;
+  sim->Build(sim->spec_);
   return sim;
 }
 
@@ -51,6 +52,7 @@ std::unique_ptr<Simulation> Simulation::Load(const ExperimentOptions& options) {
 }
 
 void Simulation::Build(const ExperimentSpec& spec) {
+  const BusyScope busy(busy_);
   file_ = spec.file;
   run_folder_ = spec.run_folder;
   document_ = spec.document;
@@ -68,7 +70,7 @@ void Simulation::Build(const ExperimentSpec& spec) {
   CreateEngines(spec.engines);
   CreateRenderers(spec.renderers);
   diagnostics.ThrowIfAny();
-  pool_ = std::make_unique<ThreadPool>(threads_);
+  if (!pool_ || pool_->threads() != threads_) pool_ = std::make_unique<ThreadPool>(threads_);
   rng_ = RandomStream::For(seed_, "loop_functions", "");
   BuildArena(spec.arena);
   diagnostics.ThrowIfAny();
@@ -78,6 +80,101 @@ void Simulation::Build(const ExperimentSpec& spec) {
   CreateLoopFunctions(spec.loop_functions, spec.arena);
   diagnostics.ThrowIfAny();
   space_.UpdateIndex();
+}
+
+void Simulation::Reset(std::optional<uint64_t> seed) {
+  if (busy_) {
+    throw std::logic_error(
+        "Simulation::Reset was called during a tick or while the simulation was being built "
+        "(from a controller or loop functions); call it between ticks");
+  }
+  const BusyScope busy(busy_);
+  if (seed) spec_.seed = *seed;
+  reset_failure_.clear();
+  try {
+    if (std::string failure = TearDown(); !failure.empty()) throw RuntimeFailure(failure);
+    Build(spec_);
+    for (const std::string& xml : added_renderers_) renderers_.push_back(NewRenderer(xml));
+    CallResetHooks();
+  } catch (const std::exception& e) {
+    reset_failure_ = e.what();
+    TearDown();
+    throw;
+  } catch (...) {
+    reset_failure_ = "it threw something that is not a std::exception";
+    TearDown();
+    throw;
+  }
+}
+
+std::string Simulation::TearDown() {
+  // The Destroy hooks, as the destructor calls them; the first failure is
+  // reported once everything is deleted.
+  std::string failure;
+  auto guarded = [&failure](auto&& call, auto&& name) {
+    try {
+      call();
+    } catch (const std::exception& e) {
+      if (failure.empty()) failure = name() + " failed in Destroy: " + e.what();
+    } catch (...) {
+      if (failure.empty())
+        failure = name() + " failed in Destroy: it threw something that is not a std::exception";
+    }
+  };
+  for (size_t i = 0; i < loop_functions_.size(); ++i) {
+    guarded([&] { loop_functions_[i]->Destroy(); },
+            [&] { return "loop functions '" + loop_function_info_[i]->label + "'"; });
+  }
+  for (Robot& r : robots_) {
+    if (!r.alive || !r.controller) continue;
+    guarded([&] { r.controller->Destroy(); },
+            [&] { return "controller '" + r.config->label + "' of robot '" + r.id + "'"; });
+  }
+  // In the reverse order of the members' declaration, as the destructor.
+  model_info_.clear();
+  entity_types_.clear();
+  rng_ = RandomStream();
+  profile_ = {};
+  metrics_ = Metrics();
+  media_.clear();
+  renderers_.clear();
+  loop_function_info_.clear();
+  loop_functions_.clear();
+  robot_count_ = 0;
+  robot_of_.clear();
+  robots_.clear();
+  controller_configs_.clear();
+  actuator_systems_.clear();
+  sensor_systems_.clear();
+  line_of_.clear();
+  engine_of_.clear();
+  model_storage_.clear();
+  taken_by_.clear();
+  models_.clear();
+  engines_.clear();
+  space_ = Space();
+  tick_ = 0;
+  done_ = false;
+  generated_.reset();
+  // A context for what the empty simulation may still be asked (AddEntity).
+  context_ = std::make_unique<ConfigContext>();
+  context_->file = file_;
+  return failure;
+}
+
+void Simulation::SetControllerParam(const std::string& controller_id, const std::string& key,
+                                    const std::string& value) {
+  std::vector<std::string> ids;
+  for (ControllerSpec& c : spec_.controllers) {
+    if (c.plugin.id == controller_id) {
+      c.params.Set(key, value);
+      return;
+    }
+    ids.push_back(c.plugin.id);
+  }
+  throw std::invalid_argument("SetControllerParam: no controller configuration with id '" +
+                              controller_id + "' in <controllers>; " +
+                              (ids.empty() ? "there is none" : "there are: " + Join(ids)));
 }
 
 void Simulation::CreateMedia(const std::vector<PluginSpec>& media) {
@@ -309,10 +406,13 @@ void Simulation::CreateLoopFunctions(const std::optional<PluginSpec>& loop_funct
   const Params params = params_node.valid() ? params_node.ToParams() : Params();
   auto lf = entry->create();
   lf->Bind(this);
+  metrics_.SetOwner(&entry->info.label);
   try {
     lf->Init(params);
   } catch (const ParamError& e) {
     params_node.Error(e.key(), e.value(), e.what());
+  } catch (const MetricNameError& e) {
+    node.ElementError(e.what());
   }
   if (const double ppm = arena.floor.loop_functions_pixels_per_meter; ppm > 0) {
     if (!lf->DrawsFloor()) {

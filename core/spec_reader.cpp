@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "core/experiment_spec.h"
 #include "core/image_renderer.h"
+#include "core/log.h"
 #include "core/loop_functions.h"
 #include "core/medium.h"
 #include "core/overrides.h"
@@ -184,10 +185,22 @@ void SpecReader::ReadOutput(const ConfigNode& root) {
   root.CheckAtMostOne("output");
   const ConfigNode node = root.Child("output");
   if (!node.valid()) return;
-  node.CheckAttributes({"metrics_every", "hash_every"});
+  node.CheckAttributes({"metrics_every", "hash_every", "trajectories_every", "format", "compress"});
   node.CheckChildren({});
-  spec_.output.metrics_every = static_cast<uint64_t>(node.GetInt("metrics_every", 1, 0, INT64_MAX));
-  spec_.output.hash_every = static_cast<uint64_t>(node.GetInt("hash_every", 0, 0, INT64_MAX));
+  OutputConfig& out = spec_.output;
+  out.metrics_every = static_cast<uint64_t>(node.GetInt("metrics_every", 1, 0, INT64_MAX));
+  out.hash_every = static_cast<uint64_t>(node.GetInt("hash_every", 0, 0, INT64_MAX));
+  out.trajectories_every =
+      static_cast<uint64_t>(node.GetInt("trajectories_every", 0, 0, INT64_MAX));
+  out.trajectories_format = node.GetChoice("format", {"csv", "hdf5"}, "csv") == "hdf5"
+                                ? OutputConfig::Format::kHdf5
+                                : OutputConfig::Format::kCsv;
+  out.trajectories_gzip = node.GetChoice("compress", {"none", "gzip"}, "none") == "gzip";
+  if (out.trajectories_every == 0 && (node.Has("format") || node.Has("compress"))) {
+    LogWarning(node.file() + ":" + std::to_string(node.line()) +
+               ": <output>: format and compress describe the trajectories table, which is "
+               "not written: trajectories_every is 0");
+  }
 }
 
 bool SpecReader::LoadLibraryAttribute(const ConfigNode& node) {

@@ -40,17 +40,19 @@ TEST(Cli, DemoShortenedWritesTheOutputContract) {
   }
   // The resolved experiment carries the override.
   EXPECT_NE(ReadFile(out / "experiment.xml").find("length=\"5\""), std::string::npos);
-  // metrics.csv: header and a row every 10 ticks, robots wandered off.
+  // metrics.csv: header and a row every 10 ticks from tick 0, robots wandered off.
   std::istringstream metrics(ReadFile(out / "metrics.csv"));
-  std::string header, line, last;
+  std::string header, line, first, last;
   std::getline(metrics, header);
   EXPECT_EQ(header, "tick,time,robots,mean_displacement,mean_path_length,in_contact,contact_ticks");
   int rows = 0;
   while (std::getline(metrics, line)) {
+    if (rows == 0) first = line;
     last = line;
     ++rows;
   }
-  EXPECT_EQ(rows, 5);
+  EXPECT_EQ(rows, 6);
+  EXPECT_EQ(first.substr(0, 12), "0,0,120,0,0,") << first;  // tick 0: nobody moved yet
   EXPECT_EQ(last.substr(0, 7), "50,5,12");
   fs::remove_all(out);
 }

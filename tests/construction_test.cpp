@@ -22,7 +22,7 @@ Outcome RunExperiment(const std::string& file, uint64_t seed,
   while (!o.sim->Done()) o.sim->Step();
   o.success = Metric(*o.sim, "success") == 1;
   o.failed = Metric(*o.sim, "failed") == 1;
-  o.time = Metric(*o.sim, "time");
+  o.time = Metric(*o.sim, "outcome_time");
   return o;
 }
 

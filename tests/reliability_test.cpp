@@ -288,9 +288,9 @@ TEST(Reliability, ControllerSegfaultIsReportedWithRobotControllerAndTick) {
       std::string::npos)
       << output;
   EXPECT_NE(output.find("libsweep_misbehave.so"), std::string::npos) << output;
-  // The metrics of ticks 1 to 49 are on disk.
+  // The metrics of ticks 0 to 49 are on disk.
   const auto rows = ExpectWholeRows(out / "metrics.csv");
-  ASSERT_EQ(rows.size(), 49u);
+  ASSERT_EQ(rows.size(), 50u);
   EXPECT_EQ(TickOf(rows.back()), 49u);
   EXPECT_FALSE(fs::exists(out / "summary.json"));
 }

@@ -1,6 +1,7 @@
 // colony_bench: speed and memory of fixed benchmark scenes.
 //
 //   colony_bench FILE.xml... [--threads N] [--repeat K] [--ticks T] [--set PATH=VALUE]...
+//   (CLI11, as colony: apps/colony/command_line.h; colony_bench --help)
 //
 // For each scene: loads it K times (default 3); each time runs T ticks (default:
 // the file's length) and measures
@@ -51,6 +52,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/colony/command_line.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/simulation.h"
@@ -59,25 +61,7 @@
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: colony_bench FILE.xml... [--threads N] [--repeat K] [--ticks T] [--set PATH=VALUE]...\n"
-    "  --threads N   threads (default: the file's <system threads>; 0 and 1 both mean the calling "
-    "thread only)\n"
-    "  --repeat K    loads and runs of each scene (default 3); medians are reported\n"
-    "  --ticks T     ticks per run (default: the file's length)\n"
-    "  --set P=V     overrides an attribute, as in colony run\n";
-
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-long long ParseWhole(const std::string& option, const std::string& text, long long min,
-                     long long max) {
-  long long v = 0;
-  const std::string problem = colony::ParseWholeOption(option, text, min, max, v);
-  if (!problem.empty()) throw UsageError(problem);
-  return v;
-}
+using colony::cli::UsageError;
 
 // A "Vm...:  1234 kB" field of /proc/self/status, in bytes (-1 if absent).
 long long ProcStatusBytes(const char* field) {
@@ -131,30 +115,38 @@ struct Options {
   long long ticks = 0;  // 0: the file's length
 };
 
-Options ParseArgs(const std::vector<std::string>& args) {
-  Options o;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&](const char* name) -> std::string {
-      if (i + 1 >= args.size()) throw UsageError(std::string(name) + " needs a value");
-      return args[++i];
-    };
-    if (a == "--threads") {
-      o.threads = static_cast<int>(ParseWhole("--threads", value("--threads"), 0, 256));
-    } else if (a == "--repeat") {
-      o.repeat = static_cast<int>(ParseWhole("--repeat", value("--repeat"), 1, 1000));
-    } else if (a == "--ticks") {
-      o.ticks = ParseWhole("--ticks", value("--ticks"), 1, 1'000'000'000);
-    } else if (a == "--set") {
-      o.overrides.push_back(value("--set"));
-    } else if (!a.empty() && a[0] == '-') {
-      throw UsageError("unknown option '" + a + "'");
-    } else {
-      o.files.push_back(a);
-    }
-  }
-  if (o.files.empty()) throw UsageError("no experiment file given");
-  return o;
+// The command line into `o`; false when --help was given (and printed).
+// Throws UsageError.
+bool ParseArgs(const std::vector<std::string>& args, Options& o) {
+  CLI::App app{
+      "Speed and memory of fixed benchmark scenes (docs/benchmarks.md): each scene "
+      "loaded and run K times, one line per repetition, the medians, and a RESULT line.",
+      "colony_bench"};
+  colony::cli::SetUpHelp(app);
+  app.allow_extras();
+  std::string threads, repeat, ticks;
+  app.add_option("FILE", o.files, "benchmark scenes, e.g. experiments/benchmarks/*.xml")
+      ->type_name("FILE.xml");
+  app.add_option("--threads", threads,
+                 "threads, 0 to 256 (default: the file's <system threads>; 0 and 1 both mean the "
+                 "calling thread only)")
+      ->type_name("N");
+  app.add_option("--repeat", repeat,
+                 "loads and runs of each scene, 1 to 1000 (default 3); medians are reported")
+      ->type_name("K");
+  app.add_option("--ticks", ticks, "ticks per run, 1 to 10^9 (default: the file's length)")
+      ->type_name("T");
+  colony::cli::AddListOption(app, "--set", o.overrides,
+                             "overrides an attribute, as in colony run; repeatable")
+      ->type_name("PATH=VALUE");
+  if (!colony::cli::Parse(app, args)) return false;
+  if (app.count("--threads"))
+    o.threads = static_cast<int>(colony::cli::ParseWhole("--threads", threads, 0, 256));
+  if (app.count("--repeat"))
+    o.repeat = static_cast<int>(colony::cli::ParseWhole("--repeat", repeat, 1, 1000));
+  if (app.count("--ticks")) o.ticks = colony::cli::ParseWhole("--ticks", ticks, 1, 1'000'000'000);
+  if (o.files.empty()) throw UsageError("no experiment file given: colony_bench FILE.xml...");
+  return true;
 }
 
 struct Repetition {
@@ -279,16 +271,13 @@ int Bench(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> args(argv + 1, argv + argc);
-  if (!args.empty() && (args[0] == "--help" || args[0] == "-h" || args[0] == "help")) {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
   try {
+    Options options;
+    if (!ParseArgs({argv + 1, argv + argc}, options)) return 0;
     colony::SetLogLevel(colony::LogLevel::kError);
-    return Bench(ParseArgs(args));
+    return Bench(options);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "colony_bench: %s\n%s", e.what(), kUsage);
+    std::fprintf(stderr, "colony_bench: %s\nrun 'colony_bench --help' for usage\n", e.what());
     return 2;
   } catch (const colony::ConfigError& e) {
     std::fprintf(stderr, "%s\n", e.what());

@@ -1,9 +1,12 @@
-// colony: the command line program.
+// colony: the command line program (read with CLI11: apps/colony/command_line.h).
 //   colony run FILE.xml [--threads N] [--seed S] [--set PATH=VALUE]... [--out DIR] [--overwrite]
-//              [--quiet] [--frames DIR] [--video FILE.mp4]
+//              [--quiet] [--log-level LEVEL] [--frames DIR] [--video FILE.mp4] [--serve
+//              [HOST:]PORT]
 //   colony query [KIND|NAME]
 //   colony sweep FILE.xml [--param PATH=V1,V2,...]... [--seeds A..B] ...  (apps/colony/sweep.h)
+//   colony plot FOLDER --metric NAME [--against PARAM] ...              (apps/colony/plot.cpp)
 //   colony version
+// `colony --help` and `colony COMMAND --help` describe each option.
 // Exit status: 0 success, 2 bad input (file or command line), 1 failure while running,
 // 128 + N after signal N (SIGINT 130, SIGTERM 143, SIGHUP 129: the run stops after
 // the current tick and says so in summary.json; a crash ends with the signal itself).
@@ -21,7 +24,9 @@
 #include <string>
 #include <vector>
 
+#include "apps/colony/command_line.h"
 #include "apps/colony/sweep.h"
+#include "apps/colony/viewer/viewer.h"
 #include "core/crash_report.h"
 #include "core/image_renderer.h"
 #include "core/log.h"
@@ -33,43 +38,12 @@
 
 namespace {
 
+namespace fs = std::filesystem;
 using colony::ConfigError;
+using colony::cli::UsageError;
 
-constexpr const char* kUsage =
-    "usage:\n"
-    "  colony run FILE.xml [--threads N] [--seed S] [--set PATH=VALUE]... [--out DIR] "
-    "[--overwrite]\n"
-    "             [--quiet] [--frames DIR] [--video FILE.mp4]\n"
-    "  colony query [KIND|NAME]      list plugins (kinds: entity, engine, physics_model, sensor,\n"
-    "                                actuator, medium, renderer, controller, loop_functions)\n"
-    "  colony sweep FILE.xml [--param PATH=V1,V2,...]... [--seeds 1..30] [--jobs N] [--out DIR] "
-    "...\n"
-    "                                many runs over parameters and seeds (colony sweep --help)\n"
-    "  colony version\n"
-    "--set overrides an attribute: framework.experiment.length=10, "
-    "arena.distribute.entity.quantity=50,\n"
-    "  controllers.diffusion[dc].params.velocity=0.1 (name[id] picks an element by id)\n"
-    "--frames DIR writes PNG frames there (the file's <visualization>, else a camera over the\n"
-    "  arena); --video FILE.mp4 also assembles them with ffmpeg (frames then go to the run\n"
-    "  folder's frames/ unless --frames is given)\n"
-    "--out and --frames refuse a folder that is not empty; --overwrite replaces the files a run\n"
-    "  writes there (experiment.xml, metrics.csv, hashes.csv, summary.json, frames/, *.png)\n"
-    "Ctrl-C (SIGINT), SIGTERM and SIGHUP stop the run after the current tick: the results so far\n"
-    "  are written and summary.json says \"completed\": false; exit status 128 + the signal\n";
-
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-long long ParseWhole(const std::string& option, const std::string& text, long long min,
-                     long long max) {
-  long long v = 0;
-  const std::string problem = colony::ParseWholeOption(option, text, min, max, v);
-  if (!problem.empty()) throw UsageError(problem);
-  return v;
-}
-
-// Progress bar on a terminal, redrawn at most ten times a second.
+// Progress bar on a terminal, redrawn at most ten times a second, on the
+// log's status line (log lines from any thread are written above it).
 class Progress {
  public:
   explicit Progress(bool enabled) : enabled_(enabled) {}
@@ -79,9 +53,11 @@ class Progress {
     if (now - last_ < std::chrono::milliseconds(100) && !sim.Done()) return;
     last_ = now;
     const double elapsed = std::chrono::duration<double>(now - start_).count();
+    char line[256];
     if (sim.length_ticks() == 0) {
-      std::fprintf(stderr, "\r  tick %llu  %.1f s simulated  %.1f s elapsed ",
-                   static_cast<unsigned long long>(sim.tick()), sim.time(), elapsed);
+      std::snprintf(line, sizeof line, "  tick %llu  %.1f s simulated  %.1f s elapsed",
+                    static_cast<unsigned long long>(sim.tick()), sim.time(), elapsed);
+      colony::SetStatusLine(line);
       return;
     }
     const double f = static_cast<double>(sim.tick()) / sim.length_ticks();
@@ -89,12 +65,14 @@ class Progress {
     std::string bar(filled, '=');
     if (filled < width) bar += '>' + std::string(width - filled - 1, ' ');
     const double left = f > 0 ? elapsed * (1 - f) / f : 0;
-    std::fprintf(stderr, "\r  [%s] %3.0f%%  tick %llu/%llu  %.1f s elapsed, %.1f s left ",
-                 bar.c_str(), 100 * f, static_cast<unsigned long long>(sim.tick()),
-                 static_cast<unsigned long long>(sim.length_ticks()), elapsed, left);
+    std::snprintf(line, sizeof line, "  [%s] %3.0f%%  tick %llu/%llu  %.1f s elapsed, %.1f s left",
+                  bar.c_str(), 100 * f, static_cast<unsigned long long>(sim.tick()),
+                  static_cast<unsigned long long>(sim.length_ticks()), elapsed, left);
+    colony::SetStatusLine(line);
   }
+  // Ends the bar's line, so what follows starts on a line of its own.
   void Finish() {
-    if (enabled_) std::fprintf(stderr, "\n");
+    if (enabled_) colony::FinishStatusLine();
   }
 
  private:
@@ -136,51 +114,179 @@ std::vector<std::string> MakeVideos(const std::vector<colony::FrameSeries>& seri
   return made;
 }
 
-int Run(const std::vector<std::string>& args) {
-  colony::ExperimentOptions options;
-  std::string out_dir, frames_dir, video;
+// `colony run`: its command line, as CLI11 fills it; values are checked
+// by Run.
+struct RunCommand {
+  CLI::App* app = nullptr;
+  std::string file, threads, seed, log_level = "info", out_dir, frames_dir, video, serve;
+  std::vector<std::string> overrides;
   bool quiet = false, overwrite = false;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&](const char* name) -> std::string {
-      if (i + 1 >= args.size()) throw UsageError(std::string(name) + " needs a value");
-      return args[++i];
-    };
-    if (a == "--threads") {
-      options.threads = static_cast<int>(ParseWhole("--threads", value("--threads"), 0, 256));
-    } else if (a == "--seed") {
-      options.seed = static_cast<uint64_t>(ParseWhole("--seed", value("--seed"), 0, INT64_MAX));
-    } else if (a == "--set") {
-      const std::string spec = value("--set");
+  CLI::Option *out_option = nullptr, *frames_option = nullptr, *video_option = nullptr,
+              *serve_option = nullptr;
+
+  explicit RunCommand(CLI::App& parent) {
+    app = parent.add_subcommand("run", "run one experiment");
+    app->allow_extras();
+    app->add_option("FILE", file, "the experiment file (Colony's XML, or an ARGoS .argos file)")
+        ->type_name("FILE.xml");
+    app->add_option("--threads", threads,
+                    "threads, 0 to 256 (replaces the file's <system threads>; 0 and 1 both mean "
+                    "the calling thread only)")
+        ->type_name("N");
+    app->add_option("--seed", seed,
+                    "random seed, a whole number >= 0 (replaces <experiment random_seed>)")
+        ->type_name("S");
+    colony::cli::AddListOption(
+        *app, "--set", overrides,
+        "overrides an attribute; repeatable: framework.experiment.length=10, "
+        "arena.distribute.entity.quantity=50, controllers.diffusion[dc].params.velocity=0.1 "
+        "(name[id] picks an element by id)")
+        ->type_name("PATH=VALUE");
+    out_option = app->add_option("--out", out_dir,
+                                 "the run folder (default: a fresh runs/NAME-DATE-TIME); refused "
+                                 "when not empty, unless --overwrite")
+                     ->type_name("DIR");
+    app->add_flag("--overwrite", overwrite,
+                  "reuse a non-empty --out or --frames folder: the files a run writes there "
+                  "(experiment.xml, metrics.csv, hashes.csv, trajectories.*, summary.json, "
+                  "run.log, frames/, *.png) are replaced, anything else is left alone");
+    app->add_flag("--quiet", quiet,
+                  "prints only errors: hides warnings too, and the progress bar and closing "
+                  "lines; run.log still gets every line of --log-level");
+    app->add_option("--log-level", log_level,
+                    "what is logged, on the terminal and in the run folder's run.log: error, "
+                    "warning, info (the default) or debug")
+        ->type_name("LEVEL");
+    frames_option = app->add_option("--frames", frames_dir,
+                                    "writes PNG frames into DIR (the file's <visualization>, "
+                                    "else a camera over the whole arena); refused when DIR is "
+                                    "not empty, unless --overwrite")
+                        ->type_name("DIR");
+    video_option = app->add_option("--video", video,
+                                   "also assembles the frames into a video with ffmpeg (frames "
+                                   "then go to the run folder's frames/ unless --frames is given)")
+                       ->type_name("FILE.mp4");
+    serve_option = app->add_option("--serve", serve,
+                                   "serves the run, paused at tick 0, to the live viewer in a "
+                                   "browser (docs/viewer.md): PORT on 127.0.0.1, or HOST:PORT; "
+                                   "a served run writes no run folder")
+                       ->type_name("[HOST:]PORT");
+    app->footer(
+        "Each log line says its level, and its tick and robot where there is one:\n"
+        "  colony: warning: [tick 120] [mb3] ...\n"
+        "The run folder receives experiment.xml (as resolved), metrics.csv, hashes.csv (with\n"
+        "<output hash_every>), run.log and, last, summary.json.\n"
+        "Ctrl-C (SIGINT), SIGTERM and SIGHUP stop the run after the current tick: the results so\n"
+        "far are written and summary.json says \"completed\": false; exit status 128 + the "
+        "signal.");
+  }
+
+  // The command line as options for loading; throws UsageError.
+  colony::ExperimentOptions Check() {
+    colony::ExperimentOptions options;
+    if (file.empty()) throw UsageError("run needs an experiment file: colony run FILE.xml");
+    for (const auto& extra : app->remaining()) {
+      throw UsageError("more than one experiment file given ('" + file + "' and '" + extra + "')");
+    }
+    options.file = file;
+    if (app->count("--threads"))
+      options.threads = static_cast<int>(colony::cli::ParseWhole("--threads", threads, 0, 256));
+    if (app->count("--seed"))
+      options.seed = static_cast<uint64_t>(colony::cli::ParseWhole("--seed", seed, 0, INT64_MAX));
+    for (const auto& spec : overrides) {
       if (spec.find('=') == std::string::npos || spec.front() == '=') {
         throw UsageError("--set '" + spec +
                          "': expected PATH=VALUE, e.g. framework.experiment.length=10");
       }
-      options.overrides.push_back(spec);
-    } else if (a == "--out") {
-      out_dir = value("--out");
-      if (out_dir.empty()) throw UsageError("--out needs a folder");
-    } else if (a == "--quiet") {
-      quiet = true;
-    } else if (a == "--overwrite") {
-      overwrite = true;
-    } else if (a == "--frames") {
-      frames_dir = value("--frames");
-      if (frames_dir.empty()) throw UsageError("--frames needs a folder");
-    } else if (a == "--video") {
-      video = value("--video");
-      if (video.empty()) throw UsageError("--video needs a file name, e.g. run.mp4");
-    } else if (!a.empty() && a[0] == '-') {
-      throw UsageError("unknown option '" + a + "'");
-    } else if (options.file.empty()) {
-      options.file = a;
-    } else {
-      throw UsageError("more than one experiment file given ('" + options.file + "' and '" + a +
-                       "')");
+    }
+    options.overrides = overrides;
+    if (out_option->count() && out_dir.empty()) throw UsageError("--out needs a folder");
+    if (frames_option->count() && frames_dir.empty()) throw UsageError("--frames needs a folder");
+    if (video_option->count() && video.empty())
+      throw UsageError("--video needs a file name, e.g. run.mp4");
+    if (serve_option->count()) {
+      // Steered by hand (pause, step, reset), a served run is not recorded.
+      for (const auto* other : {out_option, frames_option, video_option}) {
+        if (other->count()) {
+          throw UsageError("--serve and " + other->get_name() +
+                           " do not go together: a served run writes no run folder or frames");
+        }
+      }
+      colony::ServeOptions address;
+      try {
+        colony::ParseServeAddress(serve, address);
+      } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--serve ") + e.what());
+      }
+    }
+    return options;
+  }
+
+  colony::LogLevel Level() const {
+    colony::LogLevel level{};
+    if (colony::ParseLogLevel(log_level, level)) return level;
+    const std::vector<std::string> names = {"error", "warning", "info", "debug"};
+    const std::string guess = colony::DidYouMean(log_level, names);
+    throw UsageError("--log-level: '" + log_level + "' is not accepted; expected " +
+                     colony::Join(names) +
+                     (guess.empty() ? "" : " (did you mean '" + guess + "'?)"));
+  }
+};
+
+// The folders frames were written to (none when no frame was drawn).
+std::vector<std::string> FrameFolders(const colony::Simulation& sim) {
+  std::vector<std::string> folders;
+  for (const auto& r : sim.renderers()) {
+    for (const auto& s : r->frame_series()) {
+      const std::string dir = fs::path(s.pattern).parent_path().string();
+      if (s.frames > 0 && std::find(folders.begin(), folders.end(), dir) == folders.end())
+        folders.push_back(dir);
     }
   }
-  if (options.file.empty()) throw UsageError("colony run needs an experiment file");
-  if (quiet) colony::SetLogLevel(colony::LogLevel::kError);
+  return folders;
+}
+
+// `colony run FILE --serve [HOST:]PORT`: the live viewer steers the run
+// until the page's End run button or Ctrl-C.
+int Serve(RunCommand& command, colony::ExperimentOptions& options,
+          std::chrono::steady_clock::time_point load_started) {
+  colony::ServeOptions serve;
+  colony::ParseServeAddress(command.serve, serve);  // checked by Check()
+  auto sim = colony::Simulation::Load(options);
+  char seconds[32];
+  std::snprintf(
+      seconds, sizeof seconds, "%.3f",
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - load_started).count());
+  colony::LogDebug("loaded " + options.file + " in " + seconds +
+                   " s: " + std::to_string(sim->robot_count()) + " robots, seed " +
+                   std::to_string(sim->seed()));
+  colony::InstallStopHandlers();
+  serve.on_listening = [&](const std::string& url) {
+    std::printf("viewer: open %s in a browser (%zu robots, paused at tick %llu; Ctrl-C ends it)\n",
+                url.c_str(), sim->robot_count(), static_cast<unsigned long long>(sim->tick()));
+    std::fflush(stdout);
+  };
+  const int status = colony::ServeRun(*sim, serve);
+  if (!command.quiet) {
+    std::printf("served %llu ticks of %zu robots; final state hash %s\n",
+                static_cast<unsigned long long>(sim->tick()), sim->robot_count(),
+                colony::StateHasher::Hex(sim->StateHash()).c_str());
+  }
+  colony::CloseLogFile();
+  return status;
+}
+
+int Run(RunCommand& command) {
+  const auto load_started = std::chrono::steady_clock::now();
+  colony::ExperimentOptions options = command.Check();
+  const colony::LogLevel level = command.Level();
+  const bool quiet = command.quiet, overwrite = command.overwrite;
+  std::string out_dir = command.out_dir;
+  const std::string frames_dir = command.frames_dir, video = command.video;
+  colony::SetLogLevel(level);
+  if (quiet) colony::SetTerminalLogLevel(colony::LogLevel::kError);
+  // Lines logged before the run folder exists go to its run.log too.
+  colony::HoldLogLines();
   // Decided before loading: a long run should not end without its frames or video.
   if ((!frames_dir.empty() || !video.empty()) && !colony::HaveImageRenderer()) {
     throw UsageError(colony::NoImageRendererMessage(frames_dir.empty() ? "--video" : "--frames"));
@@ -202,7 +308,10 @@ int Run(const std::vector<std::string>& args) {
   } catch (const colony::OutputFolderInUse& e) {
     throw UsageError(e.what());
   }
+  const std::string log_file = "run.log";
+  if (!out_dir.empty()) colony::OpenLogFile((fs::path(out_dir) / log_file).string());
   colony::InstallCrashHandlers();
+  if (command.serve_option->count()) return Serve(command, options, load_started);
 
   // The run folder is named before loading, so that loop functions know where
   // their own files go; it is created after.
@@ -218,18 +327,35 @@ int Run(const std::vector<std::string>& args) {
   }
   const double load_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%.3f", load_seconds);
+  colony::LogDebug("loaded " + options.file + " in " + seconds +
+                   " s: " + std::to_string(sim->robot_count()) + " robots, seed " +
+                   std::to_string(sim->seed()) + ", " + std::to_string(sim->threads()) +
+                   " thread(s), " + std::to_string(sim->length_ticks()) + " ticks to run");
   colony::RunOutput output(out_dir, *sim);
+  if (command.out_dir.empty()) colony::OpenLogFile((fs::path(output.dir()) / log_file).string());
+  colony::LogDebug("run folder " + output.dir() + "/");
   Progress progress(!quiet && isatty(STDERR_FILENO));
   colony::InstallStopHandlers();
-  const auto summary = colony::RunToEnd(*sim, &output, load_seconds,
-                                        [&](const colony::Simulation& s) { progress.Update(s); });
+  // Lines logged outside plugin code carry the tick being computed, and
+  // the last one once the run is done.
+  colony::SetLogTick(sim->tick() + 1);
+  const auto summary =
+      colony::RunToEnd(*sim, &output, load_seconds, [&](const colony::Simulation& s) {
+        colony::SetLogTick(s.Done() ? s.tick() : s.tick() + 1);
+        progress.Update(s);
+      });
   progress.Finish();
+  colony::ClearLogTick();
   if (!summary.completed) {
     std::fprintf(stderr,
                  "colony: %s; results so far in %s/ (summary.json says \"completed\": false)\n",
                  summary.stop_reason.c_str(), output.dir().c_str());
+    colony::CloseLogFile();
     return 128 + colony::StopSignal();
   }
+  const std::vector<std::string> frame_folders = FrameFolders(*sim);
   if (!video.empty()) {
     std::vector<colony::FrameSeries> series;
     for (const auto& r : sim->renderers()) {
@@ -239,6 +365,8 @@ int Run(const std::vector<std::string>& args) {
       if (!quiet) std::printf("video %s\n", file.c_str());
     }
   }
+  colony::LogDebug("final state hash " + colony::StateHasher::Hex(summary.final_state_hash));
+  colony::CloseLogFile();
   if (!quiet) {
     std::printf(
         "%llu ticks (%.1f s simulated) of %zu robots in %.2f s (%.3g robot-steps/s, %d thread%s)\n",
@@ -247,8 +375,11 @@ int Run(const std::vector<std::string>& args) {
         summary.threads == 1 ? "" : "s");
     std::printf("final state hash %s\n",
                 colony::StateHasher::Hex(summary.final_state_hash).c_str());
-    std::printf("results in %s/ (experiment.xml, metrics.csv, summary.json)\n",
-                output.dir().c_str());
+    std::string frames;
+    for (const auto& dir : frame_folders)
+      frames += (frames.empty() ? "; frames in " : ", ") + dir + "/";
+    std::printf("results in %s/ (experiment.xml, metrics.csv, summary.json, run.log)%s\n",
+                output.dir().c_str(), frames.c_str());
   }
   return 0;
 }
@@ -265,10 +396,42 @@ void LoadAllPlugins() {
   }
 }
 
-int Query(const std::vector<std::string>& args) {
-  if (args.size() > 1) throw UsageError("colony query takes at most one KIND or NAME");
+// The registered names closest to `word`, at most three: "'proximity' or
+// 'positioning'".
+std::string ClosestPluginNames(const std::string& word) {
+  std::vector<std::string> names;
+  for (auto kind : colony::AllPluginKinds()) names.push_back(colony::PluginKindName(kind));
+  for (const auto* p : colony::AllPlugins()) {
+    names.push_back(p->label);
+    for (const auto& a : p->aliases) names.push_back(a);
+  }
+  std::sort(names.begin(), names.end());
+  names.erase(std::unique(names.begin(), names.end()), names.end());
+  std::vector<std::string> found, left;
+  // Names starting with `word`, then typos, then names holding it.
+  for (const auto& n : names) (n.rfind(word, 0) == 0 ? found : left).push_back(n);
+  while (found.size() < 3) {
+    const std::string guess = colony::DidYouMean(word, left);
+    if (guess.empty()) break;
+    found.push_back(guess);
+    left.erase(std::find(left.begin(), left.end(), guess));
+  }
+  for (const auto& n : left) {
+    if (word.size() >= 3 && n.find(word) != std::string::npos) found.push_back(n);
+  }
+  if (found.size() > 3) found.resize(3);
+  std::string text;
+  for (size_t i = 0; i < found.size(); ++i)
+    text += (i == 0 ? "'" : i + 1 == found.size() ? " or '" : ", '") + found[i] + "'";
+  return text;
+}
+
+int Query(CLI::App& command, const std::string& filter) {
+  if (!command.remaining().empty()) {
+    throw UsageError("query takes at most one KIND or NAME ('" + filter + "' and '" +
+                     command.remaining().front() + "' given)");
+  }
   LoadAllPlugins();
-  const std::string filter = args.empty() ? "" : args[0];
   bool any = false;
   for (auto kind : colony::AllPluginKinds()) {
     const bool kind_match = filter == colony::PluginKindName(kind);
@@ -304,42 +467,100 @@ int Query(const std::vector<std::string>& args) {
       }
     }
   }
-  if (!any) throw UsageError("no plugin kind or plugin named '" + filter + "'");
+  if (!any) {
+    const std::string close = ClosestPluginNames(filter);
+    throw UsageError("no plugin kind or plugin named '" + filter + "'" +
+                     (close.empty() ? "" : "; did you mean " + close + "?") +
+                     " ('colony query' lists them all)");
+  }
   return 0;
+}
+
+// Prints a bad command line's message and where the usage is; returns 2.
+int UsageFailure(const std::string& message, const std::string& command) {
+  colony::FinishStatusLine();
+  std::fprintf(stderr, "colony: %s\nrun 'colony%s --help' for usage\n", message.c_str(),
+               command.empty() ? "" : (" " + command).c_str());
+  return 2;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  try {
-    if (args.empty() || args[0] == "help" || args[0] == "--help" || args[0] == "-h") {
-      std::fputs(kUsage, args.empty() ? stderr : stdout);
-      return args.empty() ? 2 : 0;
+  CLI::App app{"Colony: a multi-robot swarm simulator. Runs XML experiment files (ARGoS's too).",
+               "colony"};
+  colony::cli::SetUpHelp(app);
+  app.allow_extras();
+  app.set_version_flag("--version", std::string("colony ") + COLONY_VERSION,
+                       "prints Colony's version");
+  app.footer(
+      "'colony COMMAND --help' describes a command's options.\n"
+      "Exit status: 0 success, 2 bad input (experiment file or command line), 1 failure while\n"
+      "running, 128 + N after signal N.");
+  RunCommand run(app);
+  CLI::App* query = app.add_subcommand(
+      "query",
+      "lists the plugins (kinds: entity, engine, physics_model, sensor, actuator, medium, "
+      "renderer, controller, loop_functions), or one kind, or one plugin and its XML attributes");
+  query->allow_extras();
+  std::string query_filter;
+  query->add_option("NAME", query_filter, "a plugin kind or a plugin's name")
+      ->type_name("KIND|NAME");
+  CLI::App* version = app.add_subcommand("version", "prints Colony's version");
+  // Only listed here: colony sweep and colony plot read their own command lines.
+  app.add_subcommand("sweep",
+                     "many runs of an experiment over parameters and seeds, resumable, "
+                     "summarized ('colony sweep --help')");
+  app.add_subcommand("plot",
+                     "draws a metric of a run or a sweep as PNG with gnuplot ('colony plot "
+                     "--help')");
+
+  // The command named, for "run 'colony COMMAND --help'".
+  std::string command;
+  if (!args.empty()) {
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      if (sub->get_name() == args[0]) command = args[0];
     }
-    const std::string command = args[0];
-    args.erase(args.begin());
-    if (command == "run") return Run(args);
-    if (command == "query") return Query(args);
-    if (command == "sweep") return colony::sweep::SweepCommand(args);
-    if (command == "version" || command == "--version") {
+  }
+  try {
+    if (args.empty()) {
+      std::fputs(app.help().c_str(), stderr);
+      return 2;
+    }
+    if (command == "sweep") return colony::sweep::SweepCommand({args.begin() + 1, args.end()});
+    if (command == "plot") return colony::sweep::PlotCommand({args.begin() + 1, args.end()});
+    // "colony help [COMMAND]", as "colony [COMMAND] --help".
+    if (args[0] == "help") {
+      args.erase(args.begin());
+      if (args.size() > 1) throw UsageError("help takes at most one COMMAND");
+      if (!args.empty() && args[0] == "sweep") return colony::sweep::SweepCommand({"--help"});
+      if (!args.empty() && args[0] == "plot") return colony::sweep::PlotCommand({"--help"});
+      args.push_back("--help");
+    }
+    if (!colony::cli::Parse(app, args)) return 0;
+    if (*run.app) return Run(run);
+    if (*query) return Query(*query, query_filter);
+    if (*version) {
+      if (!version->remaining().empty())
+        throw UsageError("version takes nothing, not '" + version->remaining()[0] + "'");
       std::printf("colony %s\n", COLONY_VERSION);
       return 0;
     }
-    throw UsageError("unknown command '" + command + "'");
+    throw UsageError("no command given");
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "colony: %s\n%s", e.what(), kUsage);
-    return 2;
+    return UsageFailure(e.what(), command);
   } catch (const ConfigError& e) {
-    for (const auto& d : e.diagnostics())
-      std::fprintf(stderr, "colony: error: %s\n", d.ToString().c_str());
+    colony::FinishStatusLine();
+    for (const auto& d : e.diagnostics()) colony::LogError(d.ToString());
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "\ncolony: run failed: %s\n", e.what());
+    colony::FinishStatusLine();
+    colony::LogError(std::string("run failed: ") + e.what());
     return 1;
   } catch (...) {
-    std::fprintf(stderr,
-                 "\ncolony: run failed: a plugin threw something that is not a std::exception\n");
+    colony::FinishStatusLine();
+    colony::LogError("run failed: a plugin threw something that is not a std::exception");
     return 1;
   }
 }

@@ -1,6 +1,8 @@
-// colony sweep: the command line, checking the grid before anything runs,
-// preparing the sweep folder, choosing this process's runs (shard, MPI rank)
-// and, when every rank is done, merging results.csv.
+// colony sweep: the command line (CLI11: apps/colony/command_line.h),
+// checking the grid before anything runs, preparing the sweep folder
+// (extending a sweep, refusing runs made with other code), choosing this
+// process's runs (shard, MPI rank) and, when every rank is done, merging
+// results.csv.
 #include "apps/colony/sweep.h"
 
 #include <fcntl.h>
@@ -16,6 +18,7 @@
 #include <set>
 #include <thread>
 
+#include "apps/colony/command_line.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/simulation.h"
@@ -26,20 +29,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage:\n"
-    "  colony sweep FILE.xml [--param PATH=V1,V2,...]... [--seeds 1..30] [--jobs N] [--out DIR]\n"
-    "               [--timeout SECONDS] [--retry-failed] [--shard I/N] [--threads T] [--quiet]\n"
-    "      FILE.xml: an experiment, or a sweep file (<sweep experiment=\"...\" seeds=\"...\"> "
-    "holding\n"
-    "      <param path=\"...\" values=\"...\"/>); values holding commas are separated by ';' "
-    "instead\n"
-    "  colony sweep --collect DIR... [--out DEST]          merge shards' runs into one "
-    "results.csv\n"
-    "  colony sweep --summarize DIR [--plot METRIC:PARAM]  mean, std dev, median, count over "
-    "seeds\n"
-    "See docs/sweeps.md.\n";
-
 struct SweepOptions {
   std::string file;
   std::vector<Param> params;
@@ -48,6 +37,7 @@ struct SweepOptions {
   std::string out;
   std::optional<double> timeout;
   bool retry_failed = false;
+  bool rerun_stale = false, keep_stale = false;
   Slice shard;
   std::optional<int> threads;
   bool quiet = false;
@@ -66,43 +56,79 @@ int ParseWhole(const std::string& option, const std::string& text, int min, int 
   return static_cast<int>(v);
 }
 
-SweepOptions ParseSweepOptions(const std::vector<std::string>& args) {
-  SweepOptions o;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
-      return args[++i];
-    };
-    if (a == "--param") {
-      o.params.push_back(ParseParam(value()));
-    } else if (a == "--seeds") {
-      o.seeds = ParseSeeds(value());
-    } else if (a == "--jobs") {
-      o.jobs = ParseWhole(a, value(), 1, 4096);
-    } else if (a == "--out") {
-      o.out = value();
-      if (o.out.empty()) throw UsageError("--out needs a folder");
-    } else if (a == "--timeout") {
-      o.timeout = ParseTimeout(value());
-    } else if (a == "--retry-failed") {
-      o.retry_failed = true;
-    } else if (a == "--shard") {
-      o.shard = ParseShard(value());
-    } else if (a == "--threads") {
-      o.threads = ParseWhole(a, value(), 0, 256);
-    } else if (a == "--quiet") {
-      o.quiet = true;
-    } else if (!a.empty() && a[0] == '-') {
-      throw UsageError("unknown option '" + a + "'");
-    } else if (o.file.empty()) {
-      o.file = a;
-    } else {
-      throw UsageError("more than one file given ('" + o.file + "' and '" + a + "')");
-    }
+// Parses `args` into `app` (CLI11); false when --help was given (and
+// printed).
+bool ParseCommandLine(CLI::App& app, const std::vector<std::string>& args) {
+  try {
+    return cli::Parse(app, args);
+  } catch (const cli::UsageError& e) {
+    throw UsageError(e.what());
+  }
+}
+
+// The modes' help pages name each other.
+constexpr const char* kModes =
+    "Other modes:\n"
+    "  colony sweep --collect DIR... [--out DEST]          merge shards' runs into one "
+    "results.csv\n"
+    "  colony sweep --summarize DIR [--plot METRIC:PARAM]  statistics over seeds, per tick too\n"
+    "each with its own --help. See docs/sweeps.md.";
+
+// `colony sweep FILE.xml ...`: false after --help.
+bool ParseSweepOptions(const std::vector<std::string>& args, SweepOptions& o) {
+  CLI::App app{
+      "many runs of an experiment over parameter values and seeds, resumable and extendable",
+      "colony sweep"};
+  cli::SetUpHelp(app);
+  app.allow_extras();
+  app.add_option("FILE.xml", o.file,
+                 "an experiment, or a sweep file: <sweep experiment=\"...\" seeds=\"...\"> "
+                 "holding <param path=\"...\" values=\"...\"/>");
+  std::vector<std::string> params;
+  cli::AddListOption(app, "--param", params,
+                     "a swept parameter: a --set path and its values (separated by ';' when "
+                     "they hold commas); repeatable")
+      ->type_name("PATH=V1,V2,...");
+  std::string seeds, jobs, timeout, shard, threads;
+  app.add_option("--seeds", seeds, "seeds: 1..30, 1,2,5 or 1..3,7 (default: the experiment's)")
+      ->type_name("LIST");
+  app.add_option("--jobs", jobs, "runs at a time (default: the number of cores)")->type_name("N");
+  app.add_option("--out", o.out, "the sweep folder (default: sweeps/<file name>)")
+      ->type_name("DIR");
+  app.add_option("--timeout", timeout, "stop a run after this long (then SIGKILL 2 s later)")
+      ->type_name("SECONDS");
+  app.add_flag("--retry-failed", o.retry_failed, "run the failed and timed-out runs again too");
+  auto* rerun = app.add_flag("--rerun-stale", o.rerun_stale,
+                             "run again the runs made with other code (a rebuilt plugin, "
+                             "another Colony) than the sweep's now");
+  app.add_flag("--keep-stale", o.keep_stale,
+               "keep the runs made with other code; results.csv marks them stale")
+      ->excludes(rerun);
+  app.add_option("--shard", shard, "run only the I-th of N slices (array jobs)")->type_name("I/N");
+  app.add_option("--threads", threads, "threads of each run (default 1)")->type_name("T");
+  app.add_flag("--quiet", o.quiet, "print nothing but errors");
+  // Listed so that a mistyped mode gets a suggestion; SweepCommand picks the mode.
+  app.add_flag("--collect")
+      ->description("merge shards' runs into one results.csv ('--collect --help')");
+  app.add_flag("--summarize")->description("statistics over seeds ('--summarize --help')");
+  app.footer(std::string("Exit status: 0 every run ok, 1 some run failed or timed out, 2 bad "
+                         "input, 128 + N after signal N.\n") +
+             kModes);
+  if (!ParseCommandLine(app, args)) return false;
+  if (!app.remaining().empty()) {
+    throw UsageError("more than one file given ('" + o.file + "' and '" + app.remaining()[0] +
+                     "')");
   }
   if (o.file.empty()) throw UsageError("colony sweep needs an experiment or sweep file");
-  return o;
+  // The values, checked once CLI11 has sorted them out; each message names its option.
+  for (const auto& p : params) o.params.push_back(ParseParam(p));
+  if (app.count("--seeds")) o.seeds = ParseSeeds(seeds);
+  if (app.count("--jobs")) o.jobs = ParseWhole("--jobs", jobs, 1, 4096);
+  if (app.count("--out") && o.out.empty()) throw UsageError("--out needs a folder");
+  if (app.count("--timeout")) o.timeout = ParseTimeout(timeout);
+  if (app.count("--shard")) o.shard = ParseShard(shard);
+  if (app.count("--threads")) o.threads = ParseWhole("--threads", threads, 0, 256);
+  return true;
 }
 
 // The grid from the file (an experiment or a sweep file) and the command
@@ -212,15 +238,25 @@ MpiPlace DetectMpi() {
   return place;
 }
 
-// Creates or checks the sweep folder: one holding another sweep, or other
-// files, is refused.
-void PrepareFolder(const std::string& dir, const Grid& grid) {
+std::string Runs(size_t n) { return std::to_string(n) + (n == 1 ? " run" : " runs"); }
+
+// Creates the sweep folder, or checks that it holds this sweep (perhaps
+// with other values or seeds) and returns its manifest. A folder holding
+// another sweep, an older sweep's layout, or other files is refused.
+std::optional<Manifest> PrepareFolder(const std::string& dir, const Grid& grid, const Code& code) {
   if (fs::exists(fs::path(dir) / "sweep.xml")) {
-    const std::string why = GridDifference(ReadManifest(dir), grid);
+    Manifest found = ReadManifest(dir);
+    if (found.grid.run_folders == RunFolders::kNumbered) {
+      throw UsageError(dir +
+                       " was made by an older colony sweep, which numbered its run folders and "
+                       "did not record the code its runs were made with: --collect and "
+                       "--summarize read it, but it cannot be resumed; choose another --out");
+    }
+    const std::string why = GridDifference(found.grid, grid);
     if (!why.empty()) {
       throw UsageError(dir + " holds another sweep (" + why + "); choose another --out");
     }
-    return;
+    return found;
   }
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
@@ -231,7 +267,43 @@ void PrepareFolder(const std::string& dir, const Grid& grid) {
     if (!ours) throw UsageError(dir + " exists and is not a sweep folder; choose another --out");
   }
   fs::create_directories(fs::path(dir) / "runs");
-  WriteManifest(dir, grid);
+  WriteManifest(dir, {grid, code});
+  return std::nullopt;
+}
+
+// The finished runs of the grid made with other code than `code`.
+std::vector<size_t> StaleRuns(const std::vector<std::optional<Row>>& rows,
+                              const std::string& code) {
+  std::vector<size_t> stale;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i] && RowValue(*rows[i], "code") != code) stale.push_back(i);
+  }
+  return stale;
+}
+
+// On resuming: refuses (UsageError) when the code has changed since the
+// manifest was written and finished runs were made with the old one, unless
+// --rerun-stale or --keep-stale says what to do with them.
+void CheckCode(const std::string& dir, const Manifest& found, const Code& code, size_t stale,
+               const SweepOptions& o) {
+  if (stale == 0 || (found.code && *found.code == code)) return;
+  if (o.rerun_stale || o.keep_stale) {
+    if (!o.quiet) {
+      std::printf("%s %s made with other code than now (%s)\n",
+                  o.rerun_stale ? "running again" : "keeping", Runs(stale).c_str(),
+                  o.rerun_stale ? "--rerun-stale" : "--keep-stale: stale=true in results.csv");
+    }
+    return;
+  }
+  std::string changes;
+  if (found.code) {
+    for (const auto& c : CodeChanges(*found.code, code)) changes += "\n  " + c;
+  }
+  if (changes.empty()) changes = "\n  (its runs were made with other code than the manifest's)";
+  throw UsageError(dir + ": the code has changed since its runs were made:" + changes + "\n" +
+                   Runs(stale) + (stale == 1 ? " was" : " were") +
+                   " made with the old code: give --rerun-stale to run them again, or "
+                   "--keep-stale to keep them (results.csv marks them stale)");
 }
 
 // Locks this process's share of the folder until the process ends, so the
@@ -270,14 +342,14 @@ std::string ShareName(const Slice& shard, const MpiPlace& mpi) {
 // often when the table is long).
 class ResultsWriter {
  public:
-  ResultsWriter(std::string dir, const std::vector<std::optional<Row>>& rows)
-      : dir_(std::move(dir)), rows_(rows) {}
+  ResultsWriter(std::string dir, const std::vector<std::optional<Row>>& rows, std::string code)
+      : dir_(std::move(dir)), rows_(rows), code_(std::move(code)) {}
   void Changed() {
     if (std::chrono::steady_clock::now() >= next_) Write();
   }
   void Write() {
     const auto t0 = std::chrono::steady_clock::now();
-    WriteResults(dir_, rows_);
+    WriteResults(dir_, rows_, code_);
     const auto took = std::chrono::steady_clock::now() - t0;
     next_ = std::chrono::steady_clock::now() +
             std::max<std::chrono::steady_clock::duration>(std::chrono::seconds(1), 20 * took);
@@ -286,6 +358,7 @@ class ResultsWriter {
  private:
   std::string dir_;
   const std::vector<std::optional<Row>>& rows_;
+  std::string code_;
   std::chrono::steady_clock::time_point next_{};
 };
 
@@ -325,10 +398,11 @@ Counts CountRows(const std::vector<std::optional<Row>>& rows, const std::vector<
 
 // How this process starts its runs.
 RunnerOptions MakeRunnerOptions(const SweepOptions& o, const Grid& grid, const MpiPlace& mpi,
-                                const std::string& dir) {
+                                const std::string& dir, const std::string& code) {
   RunnerOptions runner;
   runner.exe = fs::read_symlink("/proc/self/exe").string();
   runner.dir = dir;
+  runner.code = code;
   runner.jobs = o.jobs.value_or(
       std::max<int>(1, static_cast<int>(std::thread::hardware_concurrency() / mpi.local_size)));
   runner.timeout = o.timeout;
@@ -341,11 +415,9 @@ RunnerOptions MakeRunnerOptions(const SweepOptions& o, const Grid& grid, const M
   return runner;
 }
 
-std::string Runs(size_t n) { return std::to_string(n) + (n == 1 ? " run" : " runs"); }
-
 // Prints the totals of the sweep (or shard) and returns the exit status.
 int Report(const SweepOptions& o, const Grid& grid, const std::vector<std::optional<Row>>& rows,
-           const std::string& dir, std::optional<size_t> run_now) {
+           const std::string& dir, const std::string& code, std::optional<size_t> run_now) {
   const std::vector<size_t> share = ShareOf(grid, o.shard, MpiPlace{});
   const Counts c = CountRows(rows, share);
   if (!o.quiet) {
@@ -354,6 +426,14 @@ int Report(const SweepOptions& o, const Grid& grid, const std::vector<std::optio
                 c.ok, c.failed, c.timeout);
     if (run_now) std::printf(" (%zu of them run now)", *run_now);
     std::printf("\n");
+    size_t stale = 0;
+    for (size_t i : share) stale += rows[i] && RowValue(*rows[i], "code") != code;
+    if (stale > 0) {
+      std::printf(
+          "%s made with other code than now (stale=true in results.csv; --rerun-stale "
+          "runs them again)\n",
+          Runs(stale).c_str());
+    }
     if (o.shard.count > 1) {
       std::printf("when every shard is done: colony sweep --collect %s\n", dir.c_str());
     } else {
@@ -367,30 +447,54 @@ int Report(const SweepOptions& o, const Grid& grid, const std::vector<std::optio
 }
 
 int RunSweep(const std::vector<std::string>& args) {
-  SweepOptions o = ParseSweepOptions(args);
+  SweepOptions o;
+  if (!ParseSweepOptions(args, o)) return 0;
   if (o.quiet) SetLogLevel(LogLevel::kError);
   Grid grid = BuildGrid(o);
   CheckGrid(grid);
+  // The experiment is loaded: its plugin libraries are known.
+  const Code code = CurrentCode();
+  const std::string fingerprint = code.Fingerprint();
   const MpiPlace mpi = DetectMpi();
   const std::string dir = o.out.empty() ? "sweeps/" + fs::path(o.file).stem().string() : o.out;
-  PrepareFolder(dir, grid);
+  const std::optional<Manifest> found = PrepareFolder(dir, grid, code);
   LockShare(dir, ShareName(o.shard, mpi));
   fs::remove(RankMark(dir, mpi, mpi.rank));  // a mark left by an interrupted job
 
+  // A sweep resumed: runs made with other code are refused, rerun or kept;
+  // other values or seeds extend it (finished runs keep their folders).
+  std::vector<std::optional<Row>> rows = ReadRows(dir, grid);
+  const std::vector<size_t> stale = StaleRuns(rows, fingerprint);
+  if (found) {
+    CheckCode(dir, *found, code, stale.size(), o);
+    const std::string change = GridChange(found->grid, grid);
+    if (!change.empty() && !o.quiet) {
+      size_t reused = 0;
+      for (const auto& row : rows) reused += row.has_value();
+      std::printf("%s: %s (%s of the sweep reused)\n", dir.c_str(), change.c_str(),
+                  Runs(reused).c_str());
+    }
+    if (!change.empty() || !found->code || !(*found->code == code))
+      WriteManifest(dir, {grid, code});
+  }
+
   // What is left to run of this process's share.
   const std::vector<size_t> share = ShareOf(grid, o.shard, mpi);
-  std::vector<std::optional<Row>> rows = ReadRows(dir, grid);
   std::vector<size_t> pending;
   for (size_t i : share) {
-    if (!rows[i] || (o.retry_failed && RowStatus(*rows[i]) != "ok")) pending.push_back(i);
+    const bool old_code = std::binary_search(stale.begin(), stale.end(), i);
+    if (!rows[i] || (o.retry_failed && RowStatus(*rows[i]) != "ok") ||
+        (o.rerun_stale && old_code)) {
+      pending.push_back(i);
+    }
   }
 
   // Only a process running the whole grid keeps results.csv up to date as it goes.
   const bool whole = o.shard.count == 1 && mpi.size == 1;
-  ResultsWriter results(dir, rows);
+  ResultsWriter results(dir, rows, fingerprint);
   const RunnerTotals t =
-      RunAll(grid, pending, share.size() - pending.size(), MakeRunnerOptions(o, grid, mpi, dir),
-             [&](size_t i, const Row& row) {
+      RunAll(grid, pending, share.size() - pending.size(),
+             MakeRunnerOptions(o, grid, mpi, dir, fingerprint), [&](size_t i, const Row& row) {
                rows[i] = row;
                if (whole) results.Changed();
              });
@@ -403,78 +507,91 @@ int RunSweep(const std::vector<std::string>& args) {
                  share.size() - pending.size() + run_now, Runs(share.size()).c_str());
     return 128 + t.signal;
   }
-  if (mpi.size == 1) return Report(o, grid, rows, dir, run_now);
+  if (mpi.size == 1) return Report(o, grid, rows, dir, fingerprint, run_now);
 
   // Under MPI, rank 0 merges once every rank is done; the others end here.
   MeetRanks(dir, mpi);
   if (mpi.rank != 0) return 0;
   rows = ReadRows(dir, grid);
-  if (o.shard.count == 1) WriteResults(dir, rows);
-  return Report(o, grid, rows, dir, std::nullopt);
+  if (o.shard.count == 1) WriteResults(dir, rows, fingerprint);
+  return Report(o, grid, rows, dir, fingerprint, std::nullopt);
 }
 
+// `colony sweep --collect DIR... [--out DEST]`.
 int CollectCommand(const std::vector<std::string>& args) {
+  CLI::App app{"merges the runs of a sweep's shards into one results.csv",
+               "colony sweep --collect"};
+  cli::SetUpHelp(app);
+  app.allow_extras();
+  app.add_flag("--collect")->description("this mode")->required();
   std::vector<std::string> dirs;
   std::string out;
   bool quiet = false;
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--collect") continue;
-    if (args[i] == "--out") {
-      if (i + 1 >= args.size() || args[i + 1].empty()) throw UsageError("--out needs a folder");
-      out = args[++i];
-    } else if (args[i] == "--quiet") {
-      quiet = true;
-    } else if (!args[i].empty() && args[i][0] == '-') {
-      throw UsageError("'" + args[i] +
-                       "' does not go with --collect (which takes DIR... [--out DEST])");
-    } else {
-      dirs.push_back(args[i]);
-    }
-  }
+  app.add_option("DIR", dirs,
+                 "the sweep folders (array-job tasks, MPI ranks, or folders copied back from "
+                 "nodes); every one must hold the same sweep");
+  app.add_option("--out", out, "where results.csv goes (default: the first DIR)")
+      ->type_name("DEST");
+  app.add_flag("--quiet", quiet, "print nothing but errors");
+  app.footer(std::string("Exit status 1, naming them, when some runs have not finished.\n") +
+             kModes);
+  if (!ParseCommandLine(app, args)) return 0;
+  if (app.count("--out") && out.empty()) throw UsageError("--out needs a folder");
   if (dirs.empty()) throw UsageError("--collect needs the sweep folder(s) to merge");
   return Collect(dirs, out, quiet);
 }
 
+// `colony sweep --summarize DIR [--plot METRIC:PARAM]`.
 int SummarizeCommand(const std::vector<std::string>& args) {
+  CLI::App app{"statistics of a sweep over its seeds: summary.csv and summary_timeseries.csv",
+               "colony sweep --summarize"};
+  cli::SetUpHelp(app);
+  app.allow_extras();
+  app.add_flag("--summarize")->description("this mode")->required();
   std::string dir, plot;
   bool quiet = false;
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--summarize") continue;
-    if (args[i] == "--plot") {
-      if (i + 1 >= args.size()) {
-        throw UsageError(
-            "--plot needs METRIC:PARAM, e.g. mean_displacement:arena.distribute.entity.quantity");
-      }
-      plot = args[++i];
-    } else if (args[i] == "--quiet") {
-      quiet = true;
-    } else if ((!args[i].empty() && args[i][0] == '-') || !dir.empty()) {
-      throw UsageError("'" + args[i] +
-                       "' does not go with --summarize (which takes DIR [--plot METRIC:PARAM])");
-    } else {
-      dir = args[i];
-    }
+  app.add_option("DIR", dir,
+                 "the sweep folder: per parameter combination, count, mean, standard deviation, "
+                 "median, min and max of every numeric column of results.csv go to "
+                 "DIR/summary.csv (and are printed); per tick, the mean, standard deviation and "
+                 "quantiles of every metric of the runs' metrics.csv to "
+                 "DIR/summary_timeseries.csv");
+  app.add_option("--plot", plot,
+                 "also draw METRIC's mean against PARAM into DIR/plot-METRIC-PARAM.png "
+                 "(gnuplot; 'colony plot' draws more)")
+      ->type_name("METRIC:PARAM");
+  app.add_flag("--quiet", quiet, "print nothing but errors");
+  app.footer(kModes);
+  if (!ParseCommandLine(app, args)) return 0;
+  if (!app.remaining().empty()) {
+    throw UsageError("--summarize takes one sweep folder, not also '" + app.remaining()[0] + "'");
   }
   if (dir.empty()) throw UsageError("--summarize needs a sweep folder");
+  if (app.count("--plot") && plot.empty()) {
+    throw UsageError(
+        "--plot needs METRIC:PARAM, e.g. mean_displacement:arena.distribute.entity.quantity");
+  }
   return Summarize(dir, plot, quiet);
 }
 
 }  // namespace
 
 int SweepCommand(const std::vector<std::string>& args) {
+  // The mode, for the help hint of an error.
+  const bool collect = std::find(args.begin(), args.end(), "--collect") != args.end();
+  const bool summarize = std::find(args.begin(), args.end(), "--summarize") != args.end();
+  const std::string command = std::string("colony sweep") + (collect     ? " --collect"
+                                                             : summarize ? " --summarize"
+                                                                         : "");
   try {
-    if (!args.empty() && (args[0] == "--help" || args[0] == "-h" || args[0] == "help")) {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    const bool collect = std::find(args.begin(), args.end(), "--collect") != args.end();
-    const bool summarize = std::find(args.begin(), args.end(), "--summarize") != args.end();
-    if (collect && summarize) throw UsageError("--collect and --summarize are separate commands");
+    if (!args.empty() && args[0] == "help") return SweepCommand({"--help"});
+    if (collect && summarize) throw UsageError("--collect and --summarize are separate modes");
     if (collect) return CollectCommand(args);
     if (summarize) return SummarizeCommand(args);
     return RunSweep(args);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "colony sweep: %s\n%s", e.what(), kUsage);
+    std::fprintf(stderr, "colony sweep: %s\nrun '%s --help' for usage\n", e.what(),
+                 command.c_str());
     return 2;
   } catch (const Failure& e) {
     std::fprintf(stderr, "colony sweep: %s\n", e.what());

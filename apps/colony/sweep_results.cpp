@@ -3,16 +3,20 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "apps/colony/sweep.h"
+#include "core/log.h"
 #include "core/output.h"
+#include "core/table_writer.h"
 
 namespace colony::sweep {
 
@@ -24,13 +28,6 @@ namespace {
 constexpr const char* kSummaryColumns[] = {
     "ticks",        "simulated_seconds",      "robots",
     "step_seconds", "robot_steps_per_second", "final_state_hash"};
-
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // A JSON value as a results.csv field: strings unquoted, null empty,
 // whole numbers without a decimal point (10, not 10.0), others in the
@@ -49,29 +46,16 @@ std::string FieldText(const nlohmann::json& v) {
   return v.dump();
 }
 
-// The header and last complete row of metrics.csv, if it has one.
+// The header and last complete row of metrics.csv, if it has one (a killed
+// run may have left half a row; a row of another length is not complete).
 std::optional<std::pair<std::vector<std::string>, std::vector<std::string>>> LastMetricsRow(
     const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string header_line;
-  if (!std::getline(in, header_line)) return std::nullopt;
-  const auto header = ParseCsvLine(header_line);
-  // Only the tail is read: the last row is in it, the file may be long.
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  const std::streamoff start =
-      std::max<std::streamoff>(static_cast<std::streamoff>(header_line.size()) + 1, size - 65536);
-  in.seekg(start);
-  std::string tail(static_cast<size_t>(std::max<std::streamoff>(0, size - start)), '\0');
-  in.read(tail.data(), static_cast<std::streamsize>(tail.size()));
-  // Complete lines only (a killed run may have left half a line), last first.
-  std::vector<std::string> lines;
-  std::istringstream s(tail);
-  for (std::string line; std::getline(s, line);) lines.push_back(line);
-  if (!tail.empty() && tail.back() != '\n' && !lines.empty()) lines.pop_back();
-  for (size_t i = lines.size(); i-- > 0;) {
-    auto fields = ParseCsvLine(lines[i]);
-    if (fields.size() == header.size()) return std::make_pair(header, fields);
+  if (!fs::exists(path)) return std::nullopt;
+  const CsvTable csv = ReadCsvFile(path.string());
+  if (csv.records.empty()) return std::nullopt;
+  const auto& header = csv.records.front();
+  for (size_t i = csv.records.size(); i-- > 1;) {
+    if (csv.records[i].size() == header.size()) return std::make_pair(header, csv.records[i]);
   }
   return std::nullopt;
 }
@@ -86,32 +70,35 @@ void Set(Row& row, const std::string& column, const std::string& value) {
   row.emplace_back(column, value);
 }
 
-// Appends a loop-functions metric, prefixed "metrics." if its name is taken.
+// Appends a loop-functions metric, prefixed "metrics." if its name is taken
+// (or is one of the columns that come after the metrics).
 void AddMetric(Row& row, const std::string& name, const std::string& value) {
-  for (const auto& [c, v] : row) {
-    if (c == name) {
-      row.emplace_back("metrics." + name, value);
-      return;
-    }
-  }
-  row.emplace_back(name, value);
+  const bool taken =
+      name == "code" || name == "stale" || name == "detail" ||
+      std::any_of(row.begin(), row.end(), [&](const auto& cv) { return cv.first == name; });
+  row.emplace_back(taken ? "metrics." + name : name, value);
 }
 
 // What the run left: summary.json when it completed, else the last row of
 // metrics.csv (how far it got).
-void AddRunOutput(Row& row, const fs::path& run_dir, bool completed) {
+void AddRunOutput(Row& row, const fs::path& run_dir, const nlohmann::ordered_json* summary) {
   for (const char* c : kSummaryColumns) row.emplace_back(c, "");
-  if (completed) {
-    // MakeRow has checked that it parses and has every key.
-    const auto summary = nlohmann::ordered_json::parse(ReadText(run_dir / "summary.json"));
+  if (summary) {
     for (const char* c : kSummaryColumns) {
-      if (summary.contains(c)) Set(row, c, FieldText(summary[c]));
+      if (summary->contains(c)) Set(row, c, FieldText((*summary)[c]));
     }
-    for (const auto& [name, value] : summary["metrics"].items())
+    for (const auto& [name, value] : (*summary)["metrics"].items()) {
       AddMetric(row, name, FieldText(value));
+    }
     return;
   }
-  const auto last = LastMetricsRow(run_dir / "metrics.csv");
+  std::optional<std::pair<std::vector<std::string>, std::vector<std::string>>> last;
+  try {
+    last = LastMetricsRow(run_dir / "metrics.csv");
+  } catch (const UsageError& e) {
+    LogWarning(std::string(e.what()) + " (the row of run " + run_dir.filename().string() +
+               " has no metrics)");
+  }
   if (!last) return;
   const auto& [header, values] = *last;
   for (size_t i = 0; i < header.size(); ++i) {
@@ -131,35 +118,73 @@ std::string CsvLine(const std::vector<std::string>& fields) {
   std::string line;
   for (size_t i = 0; i < fields.size(); ++i) {
     if (i) line += ',';
-    const std::string& f = fields[i];
-    if (f.find_first_of(",\"\r\n") == std::string::npos) {
-      line += f;
-      continue;
-    }
-    line += '"';
-    for (char c : f) line += c == '"' ? std::string("\"\"") : std::string(1, c);
-    line += '"';
+    AppendCsvField(line, fields[i]);
   }
   return line;
 }
 
-std::vector<std::string> ParseCsvLine(const std::string& line) {
-  std::vector<std::string> fields(1);
-  bool quoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-      fields.back() += '"';
-      ++i;
-    } else if (c == '"') {
-      quoted = !quoted;
-    } else if (c == ',' && !quoted) {
-      fields.emplace_back();
-    } else if (c != '\r' || quoted) {
-      fields.back() += c;
+CsvTable ParseCsv(const std::string& text, const std::string& what) {
+  CsvTable csv;
+  std::vector<std::string> record;
+  std::string field;
+  bool quoted = false;      // inside a quoted field
+  bool was_quoted = false;  // the current field was quoted (then only a separator may follow)
+  size_t line = 1, record_line = 1;
+  auto end_field = [&] {
+    record.push_back(std::move(field));
+    field.clear();
+    was_quoted = false;
+  };
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
+        field += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        line += c == '\n';
+        field += c;
+      }
+      continue;
+    }
+    if (c == ',') {
+      end_field();
+    } else if (c == '\n' || (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n')) {
+      if (c == '\r') ++i;
+      end_field();
+      csv.records.push_back(std::move(record));
+      record.clear();
+      record_line = ++line;
+    } else if (c == '"' && field.empty() && !was_quoted) {
+      quoted = was_quoted = true;
+    } else if (was_quoted) {
+      throw UsageError(what + ":" + std::to_string(line) +
+                       ": a character after a quoted field's closing quote; not CSV (RFC 4180)");
+    } else {
+      field += c;
     }
   }
-  return fields;
+  // A record without its line end, or with a quote never closed, was cut
+  // short (a killed writer); it is dropped.
+  if (quoted || !field.empty() || !record.empty() || was_quoted) csv.cut_line = record_line;
+  return csv;
+}
+
+CsvTable ReadCsvFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw UsageError(path + ": cannot read it (" + std::strerror(errno) + ")");
+  std::stringstream s;
+  s << in.rdbuf();
+  return ParseCsv(s.str(), path);
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
 void WriteAtomically(const std::string& path, const std::string& text) {
@@ -189,16 +214,19 @@ std::string RunDir(const std::string& dir, const RunSpec& run) {
   return (fs::path(dir) / "runs" / run.name).string();
 }
 
-Row MakeRow(const Grid& grid, const RunSpec& run, const RunEnd& end, const std::string& run_dir) {
+Row MakeRow(const Grid& grid, const RunSpec& run, const RunEnd& end, const std::string& run_dir,
+            const std::string& code) {
   RunEnd result = end;
   // Finished means a summary that parses, has every key and says completed.
   const fs::path summary_file = fs::path(run_dir) / "summary.json";
-  const std::string problem = fs::exists(summary_file) ? SummaryProblem(ReadText(summary_file))
-                                                       : "there is no summary.json";
-  const bool completed = problem.empty();
-  if (result.status == RunEnd::Status::kOk && !completed) {
+  const std::string text = fs::exists(summary_file) ? ReadText(summary_file.string()) : "";
+  const std::string problem =
+      fs::exists(summary_file) ? SummaryProblem(text) : "there is no summary.json";
+  const bool completed = problem.empty() && result.status == RunEnd::Status::kOk;
+  if (result.status == RunEnd::Status::kOk && !problem.empty()) {
     result = {RunEnd::Status::kFailed, end.wall_seconds,
-              "exited with status 0 but is not a finished run: " + problem};
+              "exited with status 0 but is not a finished run: " +
+                  (fs::exists(summary_file) ? "summary.json: " + problem : problem)};
   }
   Row row{{"run", run.name}};
   for (size_t k = 0; k < grid.params.size(); ++k) {
@@ -209,7 +237,14 @@ Row MakeRow(const Grid& grid, const RunSpec& run, const RunEnd& end, const std::
   char wall[32];
   std::snprintf(wall, sizeof wall, "%.3f", result.wall_seconds);
   row.emplace_back("wall_seconds", wall);
-  AddRunOutput(row, run_dir, completed && result.status == RunEnd::Status::kOk);
+  if (completed) {
+    // SummaryProblem has checked that it parses and has every key.
+    const auto summary = nlohmann::ordered_json::parse(text);
+    AddRunOutput(row, run_dir, &summary);
+  } else {
+    AddRunOutput(row, run_dir, nullptr);
+  }
+  row.emplace_back("code", code);
   row.emplace_back("detail", result.detail);
   return row;
 }
@@ -225,22 +260,29 @@ void WriteRow(const std::string& run_dir, const Row& row) {
 }
 
 std::optional<Row> ReadRow(const std::string& run_dir) {
-  std::ifstream in(fs::path(run_dir) / "row.csv");
-  std::string header_line, values_line;
-  if (!std::getline(in, header_line) || !std::getline(in, values_line)) return std::nullopt;
-  const auto header = ParseCsvLine(header_line), values = ParseCsvLine(values_line);
-  if (header.size() != values.size()) return std::nullopt;
+  const fs::path path = fs::path(run_dir) / "row.csv";
+  if (!fs::exists(path)) return std::nullopt;
+  // Written atomically: anything but a header and one row of its length is
+  // not ours (the run counts as unfinished and runs again).
+  const CsvTable csv = ReadCsvFile(path.string());
+  if (csv.cut_line || csv.records.size() != 2 || csv.records[0].size() != csv.records[1].size()) {
+    return std::nullopt;
+  }
   Row row;
-  for (size_t i = 0; i < header.size(); ++i) row.emplace_back(header[i], values[i]);
+  for (size_t i = 0; i < csv.records[0].size(); ++i) {
+    row.emplace_back(csv.records[0][i], csv.records[1][i]);
+  }
   return row;
 }
 
-std::string RowStatus(const Row& row) {
+std::string RowValue(const Row& row, const std::string& column) {
   for (const auto& [c, v] : row) {
-    if (c == "status") return v;
+    if (c == column) return v;
   }
   return "";
 }
+
+std::string RowStatus(const Row& row) { return RowValue(row, "status"); }
 
 std::vector<std::optional<Row>> ReadRows(const std::string& dir, const Grid& grid) {
   std::vector<std::optional<Row>> rows(grid.size());
@@ -248,14 +290,17 @@ std::vector<std::optional<Row>> ReadRows(const std::string& dir, const Grid& gri
   return rows;
 }
 
-void WriteResults(const std::string& dir, const std::vector<std::optional<Row>>& rows) {
-  // Columns: every row's, in order of first appearance; detail last.
+void WriteResults(const std::string& dir, const std::vector<std::optional<Row>>& rows,
+                  const std::string& code) {
+  // Columns: every row's, in order of first appearance, `stale` after
+  // `status`; detail last.
   std::vector<std::string> header;
   for (const auto& row : rows) {
     if (!row) continue;
     for (const auto& [c, v] : *row) {
       if (c != "detail" && std::find(header.begin(), header.end(), c) == header.end()) {
         header.push_back(c);
+        if (c == "status") header.push_back("stale");
       }
     }
   }
@@ -267,15 +312,26 @@ void WriteResults(const std::string& dir, const std::vector<std::optional<Row>>&
     for (const auto& [c, v] : *row) {
       fields[std::find(header.begin(), header.end(), c) - header.begin()] = v;
     }
+    const std::string made_with = RowValue(*row, "code");
+    const size_t stale = std::find(header.begin(), header.end(), "stale") - header.begin();
+    if (stale < header.size() && !made_with.empty() && !code.empty()) {
+      fields[stale] = made_with == code ? "false" : "true";
+    }
     text += CsvLine(fields) + "\n";
   }
   WriteAtomically((fs::path(dir) / "results.csv").string(), text);
 }
 
 int Collect(const std::vector<std::string>& dirs, const std::string& out, bool quiet) {
-  const Grid grid = ReadManifest(dirs[0]);
+  const Manifest manifest = ReadManifest(dirs[0]);
+  const Grid& grid = manifest.grid;
   for (size_t d = 1; d < dirs.size(); ++d) {
-    const std::string why = GridDifference(ReadManifest(dirs[d]), grid);
+    const Grid other = ReadManifest(dirs[d]).grid;
+    std::string why = GridDifference(other, grid);
+    if (why.empty()) why = GridChange(other, grid);
+    if (why.empty() && other.run_folders != grid.run_folders) {
+      why = "its run folders are named otherwise (made by another version of colony sweep)";
+    }
     if (!why.empty()) {
       throw UsageError(dirs[d] + " holds another sweep than " + dirs[0] + ": " + why);
     }
@@ -300,8 +356,8 @@ int Collect(const std::vector<std::string>& dirs, const std::string& out, bool q
   }
   const std::string dest = out.empty() ? dirs[0] : out;
   fs::create_directories(dest);
-  if (!fs::exists(fs::path(dest) / "sweep.xml")) WriteManifest(dest, grid);
-  WriteResults(dest, rows);
+  if (!fs::exists(fs::path(dest) / "sweep.xml")) WriteManifest(dest, manifest);
+  WriteResults(dest, rows, manifest.code ? manifest.code->Fingerprint() : "");
   if (!quiet) {
     std::printf("collected %zu of %zu runs (%zu ok, %zu failed, %zu timeout) into %s/results.csv\n",
                 grid.size() - missing.size(), grid.size(), ok, failed, timeout, dest.c_str());

@@ -16,6 +16,7 @@
 #include <fstream>
 
 #include "apps/colony/sweep.h"
+#include "core/log.h"
 
 namespace colony::sweep {
 
@@ -172,13 +173,16 @@ class Progress {
     const size_t left = total_ - already_done_ - finished;
     const std::string eta =
         finished ? "~" + Duration(elapsed / finished * left) + " left" : "time left unknown";
-    std::fprintf(
-        stderr, "\r  sweep: %zu/%zu done (%zu failed, %zu timeout), %zu running, %s elapsed, %s   ",
-        already_done_ + finished, total_, t.failed, t.timeout, running, Duration(elapsed).c_str(),
-        eta.c_str());
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "  sweep: %zu/%zu done (%zu failed, %zu timeout), %zu running, %s elapsed, %s",
+                  already_done_ + finished, total_, t.failed, t.timeout, running,
+                  Duration(elapsed).c_str(), eta.c_str());
+    // A status line: log lines (a warning about a run) erase it and draw it again.
+    SetStatusLine(text);
   }
   void Finish() {
-    if (enabled_) std::fprintf(stderr, "\n");
+    if (enabled_) FinishStatusLine();
   }
 
  private:
@@ -220,7 +224,8 @@ RunnerTotals RunAll(const Grid& grid, const std::vector<size_t>& pending, size_t
       }
       const RunSpec run = RunAt(grid, running[i].index);
       const std::string dir = RunDir(options.dir, run);
-      const Row row = MakeRow(grid, run, EndOf(running[i], status, options, dir + "/run.log"), dir);
+      const Row row = MakeRow(grid, run, EndOf(running[i], status, options, dir + "/run.log"), dir,
+                              options.code);
       WriteRow(dir, row);
       const std::string s = RowStatus(row);
       (s == "ok" ? totals.ok : s == "timeout" ? totals.timeout : totals.failed)++;

@@ -10,7 +10,7 @@
 //   tower:  success when three cubes stand on each other, each within
 //           `tolerance` of the one below and level with it.
 //   failure: the robot fell (its base more than 2 cm below the floor).
-//   metrics: success (0/1), failed (0/1), time (s of success or failure,
+//   metrics: success (0/1), failed (0/1), outcome_time (s of success or failure,
 //            -1 while running), cubes_in_ditch, tower_height, robot_z
 #include <algorithm>
 #include <cmath>
@@ -93,7 +93,7 @@ class ConstructionMetrics : public LoopFunctions {
     }
     m.Set("success", success_ ? 1 : 0);
     m.Set("failed", failed_ ? 1 : 0);
-    m.Set("time", time_);
+    m.Set("outcome_time", time_);
     m.Set("cubes_in_ditch", in_ditch);
     m.Set("tower_height", height);
     m.Set("robot_z", rp.z() - floor_z);

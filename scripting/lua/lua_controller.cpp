@@ -140,10 +140,7 @@ int LogFunction(lua_State* L) {
   const char* text = lua_tolstring(L, -1, &size);
   size_t id_size = 0;
   const char* id = lua_tolstring(L, lua_upvalueindex(1), &id_size);
-  {
-    std::string message = "[" + std::string(id, id_size) + "] " + std::string(text, size);
-    Log(kLevel, message);
-  }
+  LogFor(kLevel, std::string(id, id_size), std::string(text, size));
   return 0;
 }
 

@@ -1,0 +1,605 @@
+#include "apps/colony/viewer/viewer.h"
+
+#include <bit>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+#include "apps/colony/viewer/ws_hub.h"
+#include "core/crash_report.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "core/simulation.h"
+
+#ifndef COLONY_INSTALL_VIEWER_DIR
+#define COLONY_INSTALL_VIEWER_DIR "/usr/local/share/colony/viewer"
+#endif
+
+namespace colony {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using viewer::HttpReply;
+using viewer::WebSocketHub;
+using Clock = std::chrono::steady_clock;
+
+// A browser's message longer than this closes its connection: commands are
+// a few dozen bytes.
+constexpr size_t kMaxMessageBytes = 4096;
+// Frames are not sent to a connection with more than this waiting to go out.
+constexpr size_t kMaxBufferedBytes = 8 << 20;
+// Speeds the page may ask for, in multiples of real time ("max": no pacing).
+constexpr double kMinSpeed = 0.1, kMaxSpeed = 1000;
+// How often the paused loop looks at the stop flag and signals (s).
+constexpr auto kIdlePoll = std::chrono::milliseconds(50);
+
+// The binary frame (docs/viewer.md): a 16-byte header, then one 20-byte
+// record per mover, in the order of the scene's "movers".
+constexpr uint32_t kFrameMagic = 0x31464C43;  // "CLF1" as little-endian bytes
+constexpr size_t kFrameHeaderBytes = 16, kFrameRecordBytes = 20;
+static_assert(std::endian::native == std::endian::little,
+              "frames are written as little-endian memory images");
+
+// --- Files -----------------------------------------------------------------
+
+const char* ContentType(const fs::path& path) {
+  const std::string ext = path.extension().string();
+  if (ext == ".html") return "text/html; charset=utf-8";
+  if (ext == ".js") return "text/javascript; charset=utf-8";
+  if (ext == ".css") return "text/css; charset=utf-8";
+  if (ext == ".png") return "image/png";
+  if (ext == ".json") return "application/json";
+  return "application/octet-stream";
+}
+
+HttpReply NotFound(const std::string& what) {
+  return {404, "text/plain; charset=utf-8", "not found: " + what + "\n"};
+}
+
+// GET `resource`: "/" is the page, "/three/..." three.js, anything else a
+// file of the page's folder. Paths that climb out (..) are refused.
+HttpReply ServeFile(const std::string& resource, const std::string& web_dir,
+                    const std::string& three_dir) {
+  std::string path = resource.substr(0, resource.find_first_of("?#"));
+  if (path.empty() || path.front() != '/' || path.find("..") != std::string::npos ||
+      path.find('\\') != std::string::npos || path.find('\0') != std::string::npos) {
+    return NotFound(path);
+  }
+  if (path == "/") path = "/index.html";
+  fs::path file;
+  if (path.rfind("/three/", 0) == 0) {
+    file = fs::path(three_dir) / path.substr(7);
+  } else {
+    file = fs::path(web_dir) / path.substr(1);
+  }
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return NotFound(path);
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream body;
+  body << in.rdbuf();
+  if (!in && !in.eof()) return {500, "text/plain", "cannot read " + path + "\n"};
+  return {200, ContentType(file), body.str()};
+}
+
+// --- Commands --------------------------------------------------------------
+
+// What the page asks, checked on the network thread; the simulation thread
+// only ever sees valid commands. kOpen and kClose come from the hub.
+struct Command {
+  enum Kind { kOpen, kClose, kPlay, kPause, kStep, kSpeed, kReset, kQuit } kind = kOpen;
+  WebSocketHub::ConnectionId connection = 0;
+  double speed = 0;              // kSpeed: multiple of real time, 0 for "max"
+  std::optional<uint64_t> seed;  // kReset: a new seed, or the run's own
+};
+
+Command Event(Command::Kind kind, WebSocketHub::ConnectionId connection) {
+  Command c;
+  c.kind = kind;
+  c.connection = connection;
+  return c;
+}
+
+constexpr const char* kCommandsAccepted =
+    "{\"cmd\": \"play\" | \"pause\" | \"step\" | \"quit\"}, {\"cmd\": \"speed\", \"value\": a "
+    "number from 0.1 to 1000 (times real time) or \"max\"} or {\"cmd\": \"reset\"[, \"seed\": a "
+    "whole number from 0 to 9223372036854775807]}";
+
+// Parses one message from a browser into `command`; returns why it is not
+// a valid command ("" when it is).
+std::string ParseCommand(const std::string& payload, bool binary, Command& command) {
+  if (binary)
+    return "binary messages are not commands; send JSON text: " + std::string(kCommandsAccepted);
+  const json message = json::parse(payload, nullptr, /*allow_exceptions=*/false);
+  if (message.is_discarded()) return std::string("not JSON; expected ") + kCommandsAccepted;
+  if (!message.is_object() || !message.contains("cmd") || !message["cmd"].is_string()) {
+    return std::string("expected a JSON object with a string \"cmd\": ") + kCommandsAccepted;
+  }
+  const std::string cmd = message["cmd"].get<std::string>();
+  const bool speed = cmd == "speed";
+  for (const auto& [key, value] : message.items()) {
+    if (key != "cmd" && !(speed && key == "value") && !(cmd == "reset" && key == "seed")) {
+      return "command '" + cmd + "' takes no \"" + key + "\"; expected " + kCommandsAccepted;
+    }
+  }
+  if (cmd == "play")
+    command.kind = Command::kPlay;
+  else if (cmd == "pause")
+    command.kind = Command::kPause;
+  else if (cmd == "step")
+    command.kind = Command::kStep;
+  else if (cmd == "quit")
+    command.kind = Command::kQuit;
+  else if (cmd == "reset") {
+    command.kind = Command::kReset;
+    if (!message.contains("seed")) return "";
+    const json& seed = message["seed"];
+    if (!seed.is_number_unsigned() ||
+        seed.get<uint64_t>() > static_cast<uint64_t>(std::numeric_limits<int64_t>::max())) {
+      return "reset seed " + seed.dump() +
+             " is not accepted; expected a whole number from 0 to 9223372036854775807";
+    }
+    command.seed = seed.get<uint64_t>();
+    return "";
+  } else if (!speed)
+    return "unknown command '" + cmd + "'; expected " + kCommandsAccepted;
+  if (!speed) return "";
+  command.kind = Command::kSpeed;
+  const json value = message.value("value", json());
+  if (value.is_string() && value.get<std::string>() == "max") {
+    command.speed = 0;
+    return "";
+  }
+  if (!value.is_number() ||
+      !(value.get<double>() >= kMinSpeed && value.get<double>() <= kMaxSpeed)) {
+    return "speed value " + value.dump() +
+           " is not accepted; expected a number from 0.1 to 1000 "
+           "(times real time) or \"max\"";
+  }
+  command.speed = value.get<double>();
+  return "";
+}
+
+// --- Scene and frames ------------------------------------------------------
+
+json Rgb(Color c) { return json::array({c.r, c.g, c.b}); }
+json Xyz(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+const char* ShapeName(ShapeKind shape) {
+  switch (shape) {
+    case ShapeKind::kBox:
+      return "box";
+    case ShapeKind::kCylinder:
+      return "cylinder";
+    default:
+      return "none";
+  }
+}
+
+// What every entity's description shares: id, type, shape, size, colour.
+json Describe(const Space& space, uint32_t slot) {
+  const Geometry& g = space.geometry(slot);
+  return {{"id", space.id(slot)},        {"type", space.TypeLabel(space.type(slot))},
+          {"shape", ShapeName(g.shape)}, {"size", Xyz(g.size)},
+          {"radius", g.radius},          {"color", Rgb(space.color(slot))}};
+}
+
+// The slots of the entities whose pose the frames carry (robots and movable
+// objects), in slot order.
+void ListMovers(const Space& space, std::vector<uint32_t>& movers) {
+  movers.clear();
+  for (uint32_t i = 0; i < space.slots(); ++i) {
+    if (space.alive(i) && space.movable(i)) movers.push_back(i);
+  }
+}
+
+// The scene description, sent once per connection and again when the
+// entities change: arena, floor, fixed entities (with their poses) and
+// movers (without: the frames carry them).
+std::string SceneJson(const Simulation& sim, const std::vector<uint32_t>& movers) {
+  const Space& space = sim.space();
+  // The floor's flat colour: ColorAt away from any image is that colour.
+  const double far = std::numeric_limits<double>::infinity();
+  json ditches = json::array();
+  for (const Ditch& d : space.floor().ditches()) {
+    ditches.push_back(
+        {{"min", {d.min_x, d.min_y}}, {"max", {d.max_x, d.max_y}}, {"depth", d.depth}});
+  }
+  json objects = json::array();
+  for (uint32_t i = 0; i < space.slots(); ++i) {
+    if (!space.alive(i) || space.movable(i)) continue;
+    json o = Describe(space, i);
+    const Pose& pose = space.pose(i);
+    o["position"] = Xyz(pose.position);
+    o["orientation"] = {pose.orientation.w(), pose.orientation.x(), pose.orientation.y(),
+                        pose.orientation.z()};
+    if (space.light(i)) {
+      o["light"] = true;
+      if (!space.leds(i).empty()) o["color"] = Rgb(space.leds(i)[0]);
+    }
+    objects.push_back(std::move(o));
+  }
+  json list = json::array();
+  for (uint32_t i : movers) {
+    json m = Describe(space, i);
+    m["robot"] = (space.flags(i) & kRobot) != 0;
+    list.push_back(std::move(m));
+  }
+  json scene = {{"type", "scene"},
+                {"protocol", 1},
+                {"file", sim.file()},
+                {"dt", sim.dt()},
+                {"length_ticks", sim.length_ticks()},
+                {"arena", {{"min", Xyz(space.arena_min())}, {"max", Xyz(space.arena_max())}}},
+                {"floor",
+                 {{"color", Rgb(space.floor().ColorAt(far, far))},
+                  {"image", space.floor().has_image()},
+                  {"ditches", std::move(ditches)}}},
+                {"ceiling", space.ceiling() ? json(space.ceiling()->z) : json()},
+                {"objects", std::move(objects)},
+                {"movers", std::move(list)}};
+  return scene.dump();
+}
+
+// One frame: header (magic, mover count, tick), then per mover x, y, z, yaw
+// (float32) and the colour it shows (its first LED, else its body colour).
+std::string EncodeFrame(const Simulation& sim, const std::vector<uint32_t>& movers) {
+  const Space& space = sim.space();
+  std::string frame(kFrameHeaderBytes + kFrameRecordBytes * movers.size(), '\0');
+  char* out = frame.data();
+  const uint32_t count = static_cast<uint32_t>(movers.size());
+  const uint64_t tick = sim.tick();
+  std::memcpy(out, &kFrameMagic, 4);
+  std::memcpy(out + 4, &count, 4);
+  std::memcpy(out + 8, &tick, 8);
+  out += kFrameHeaderBytes;
+  for (uint32_t i : movers) {
+    const Pose& pose = space.pose(i);
+    const float values[4] = {
+        static_cast<float>(pose.position.x()), static_cast<float>(pose.position.y()),
+        static_cast<float>(pose.position.z()), static_cast<float>(YawOf(pose.orientation))};
+    std::memcpy(out, values, sizeof values);
+    const auto leds = space.leds(i);
+    const Color c = leds.empty() ? space.color(i) : leds[0];
+    out[16] = static_cast<char>(c.r);
+    out[17] = static_cast<char>(c.g);
+    out[18] = static_cast<char>(c.b);
+    out += kFrameRecordBytes;
+  }
+  return frame;
+}
+
+// --- The served run --------------------------------------------------------
+
+class Server {
+ public:
+  Server(Simulation& sim, const ServeOptions& options, std::string web_dir)
+      : sim_(sim),
+        options_(options),
+        hub_(Handlers(std::move(web_dir)), kMaxMessageBytes, kMaxBufferedBytes) {}
+
+  // The network thread calls into this object: it stops before the members go.
+  ~Server() { hub_.Stop(); }
+
+  int Run() {
+    int port = 0;
+    try {
+      port = hub_.Start(options_.host, options_.port);
+    } catch (const std::runtime_error& e) {
+      throw RuntimeFailure(std::string("viewer: ") + e.what());
+    }
+    const bool v6 = options_.host.find(':') != std::string::npos;
+    const std::string url = "http://" + (v6 ? "[" + options_.host + "]" : options_.host) + ":" +
+                            std::to_string(port) + "/";
+    if (options_.on_listening) {
+      options_.on_listening(url);
+    } else {
+      std::printf("viewer: open %s in a browser (paused at tick %llu; Ctrl-C ends it)\n",
+                  url.c_str(), static_cast<unsigned long long>(sim_.tick()));
+      std::fflush(stdout);
+    }
+    playing_ = options_.start_playing;
+    speed_ = options_.speed;
+    RestartPacing();
+    frame_interval_ = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(1.0 / options_.updates_per_second));
+    const int status = Loop();
+    hub_.Stop();
+    // What serving cost the simulation thread, for measuring it (docs/viewer.md).
+    if (frames_sent_ > 0) {
+      char line[200];
+      std::snprintf(line, sizeof line,
+                    "viewer: %llu frames sent, %.3f ms each to encode on the simulation thread; "
+                    "%llu not sent to stalled connections",
+                    static_cast<unsigned long long>(frames_sent_),
+                    1e3 * frame_seconds_ / frames_sent_,
+                    static_cast<unsigned long long>(hub_.dropped()));
+      LogInfo(line);
+    }
+    return status;
+  }
+
+ private:
+  WebSocketHub::Handlers Handlers(std::string web_dir) {
+    WebSocketHub::Handlers h;
+    h.http = [web_dir, three = options_.three_dir](const std::string& resource) {
+      return ServeFile(resource, web_dir, three);
+    };
+    h.open = [this](WebSocketHub::ConnectionId id) { Push(Event(Command::kOpen, id)); };
+    h.close = [this](WebSocketHub::ConnectionId id) { Push(Event(Command::kClose, id)); };
+    h.message = [this](WebSocketHub::ConnectionId id, const std::string& payload, bool binary) {
+      Command command = Event(Command::kOpen, id);
+      const std::string problem = ParseCommand(payload, binary, command);
+      if (problem.empty()) return Push(command);
+      // The message is shown cut short: it may be long and binary.
+      std::string shown = binary ? "(binary, " + std::to_string(payload.size()) + " bytes)"
+                                 : payload.substr(0, 200);
+      LogWarning("viewer: connection " + std::to_string(id) + ": " + problem +
+                 " (received: " + shown + ")");
+      const json reply = {{"type", "error"}, {"message", problem}, {"received", shown}};
+      hub_.Send(id,
+                std::make_shared<const std::string>(
+                    reply.dump(-1, ' ', false, json::error_handler_t::replace)),
+                false);
+    };
+    return h;
+  }
+
+  void Push(const Command& command) {
+    {
+      std::lock_guard lock(mutex_);
+      queue_.push_back(command);
+    }
+    pending_.store(true, std::memory_order_release);
+    wake_.notify_one();
+  }
+
+  // The simulation thread's loop: apply commands, step when playing (paced
+  // to the speed) or asked to, send a frame when one is due.
+  int Loop() {
+    for (;;) {
+      if (options_.stop && options_.stop->load()) return 0;
+      if (const int signal_number = StopSignal()) return 128 + signal_number;
+      if (pending_.load(std::memory_order_acquire) && !ApplyCommands()) return 0;
+      const bool can_step = !sim_.Done() && (playing_ || steps_ > 0);
+      if (!can_step) {
+        if (playing_) SetPlaying(false);  // the run ended while playing
+        Wait(Clock::now() + kIdlePoll);
+        continue;
+      }
+      if (playing_ && speed_ > 0) {
+        const double ahead = static_cast<double>(sim_.tick() + 1 - paced_from_tick_) * sim_.dt();
+        const auto due = paced_from_ + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(ahead / speed_));
+        if (Clock::now() < due) {
+          Wait(due);
+          continue;
+        }
+      }
+      sim_.Step();
+      if (options_.after_tick) options_.after_tick(sim_);
+      const bool stepped = steps_ > 0;
+      if (stepped) --steps_;
+      if (hub_.connections() == 0) continue;
+      const auto now = Clock::now();
+      if (stepped || sim_.Done() || now >= next_frame_) {
+        SendFrame();
+        next_frame_ = now + frame_interval_;
+      }
+      if (stepped || sim_.Done()) SendStatus();
+    }
+  }
+
+  // Waits until `until` or a command arrives.
+  void Wait(Clock::time_point until) {
+    std::unique_lock lock(mutex_);
+    wake_.wait_until(lock, until, [this] { return !queue_.empty(); });
+  }
+
+  // Applies the queued commands; false on "quit".
+  bool ApplyCommands() {
+    std::deque<Command> commands;
+    {
+      std::lock_guard lock(mutex_);
+      commands.swap(queue_);
+      pending_.store(false, std::memory_order_relaxed);
+    }
+    for (const Command& c : commands) {
+      switch (c.kind) {
+        case Command::kOpen:
+          LogInfo("viewer: connection " + std::to_string(c.connection) + " opened");
+          ListMovers(sim_.space(), movers_);
+          SendTo(c.connection, SceneJson(sim_, movers_), false);
+          SendTo(c.connection, StatusJson(), false);
+          SendTo(c.connection, EncodeFrame(sim_, movers_), true);
+          break;
+        case Command::kClose:
+          LogInfo("viewer: connection " + std::to_string(c.connection) + " closed");
+          break;
+        case Command::kPlay:
+          SetPlaying(!sim_.Done());
+          break;
+        case Command::kPause:
+          SetPlaying(false);
+          break;
+        case Command::kStep:
+          SetPlaying(false);
+          if (sim_.Done())
+            SendStatus();
+          else
+            ++steps_;
+          break;
+        case Command::kSpeed:
+          speed_ = c.speed;
+          RestartPacing();
+          SendStatus();
+          break;
+        case Command::kReset:
+          Reset(c);
+          break;
+        case Command::kQuit:
+          LogInfo("viewer: connection " + std::to_string(c.connection) + " ended the run");
+          return false;
+      }
+    }
+    return true;
+  }
+
+  // Back to tick 0 (Simulation::Reset), paused; every page gets the scene
+  // again. A failed reset is the asking page's error.
+  void Reset(const Command& c) {
+    playing_ = false;
+    steps_ = 0;
+    try {
+      sim_.Reset(c.seed);
+    } catch (const std::exception& e) {
+      const std::string problem = std::string("reset failed: ") + e.what();
+      LogWarning("viewer: connection " + std::to_string(c.connection) + ": " + problem);
+      SendTo(c.connection, json({{"type", "error"}, {"message", problem}}).dump(), false);
+      SendStatus();
+      return;
+    }
+    LogInfo("viewer: connection " + std::to_string(c.connection) + " reset the run (seed " +
+            std::to_string(sim_.seed()) + ")");
+    ListMovers(sim_.space(), movers_);
+    hub_.Broadcast(std::make_shared<const std::string>(SceneJson(sim_, movers_)), false, false);
+    RestartPacing();
+    SendStatus();
+    hub_.Broadcast(std::make_shared<const std::string>(EncodeFrame(sim_, movers_)), true, false);
+  }
+
+  void SetPlaying(bool playing) {
+    const bool paused_now = playing_ && !playing;
+    playing_ = playing;
+    RestartPacing();
+    if (paused_now && hub_.connections() > 0) SendFrame();
+    SendStatus();
+  }
+  void RestartPacing() {
+    paced_from_ = Clock::now();
+    paced_from_tick_ = sim_.tick();
+  }
+
+  std::string StatusJson() const {
+    const json status = {{"type", "status"},    {"tick", sim_.tick()},
+                         {"seed", sim_.seed()}, {"playing", playing_},
+                         {"done", sim_.Done()}, {"speed", speed_ > 0 ? json(speed_) : json("max")}};
+    return status.dump();
+  }
+  void SendStatus() {
+    hub_.Broadcast(std::make_shared<const std::string>(StatusJson()), false, false);
+  }
+
+  // Sends the current poses to every connection (a new scene first if the
+  // movers changed: entities added or removed while running).
+  void SendFrame() {
+    const auto start = Clock::now();
+    ListMovers(sim_.space(), scratch_);
+    if (scratch_ != movers_) {
+      movers_.swap(scratch_);
+      hub_.Broadcast(std::make_shared<const std::string>(SceneJson(sim_, movers_)), false, false);
+    }
+    hub_.Broadcast(std::make_shared<const std::string>(EncodeFrame(sim_, movers_)), true, true);
+    ++frames_sent_;
+    frame_seconds_ += std::chrono::duration<double>(Clock::now() - start).count();
+  }
+  void SendTo(WebSocketHub::ConnectionId id, std::string data, bool binary) {
+    hub_.Send(id, std::make_shared<const std::string>(std::move(data)), binary);
+  }
+
+  Simulation& sim_;
+  const ServeOptions& options_;
+  WebSocketHub hub_;
+  // Commands from the network thread.
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<Command> queue_;
+  std::atomic<bool> pending_{false};
+  // Simulation thread only.
+  bool playing_ = false;
+  double speed_ = 1;  // times real time; 0: as fast as possible
+  int steps_ = 0;     // single steps asked for and not yet taken
+  Clock::time_point paced_from_;
+  uint64_t paced_from_tick_ = 0;
+  Clock::time_point next_frame_;
+  Clock::duration frame_interval_{};
+  std::vector<uint32_t> movers_, scratch_;
+  uint64_t frames_sent_ = 0;
+  double frame_seconds_ = 0;  // in SendFrame
+};
+
+}  // namespace
+
+void ParseServeAddress(const std::string& text, ServeOptions& options) {
+  const std::string accepted =
+      "expected [HOST:]PORT with PORT from 0 to 65535 (0: any free port), e.g. 8080, "
+      "127.0.0.1:8080, 0.0.0.0:8080 or [::1]:8080";
+  std::string host = options.host, port = text;
+  if (!text.empty() && text.front() == '[') {
+    const size_t close = text.find("]:");
+    if (close == std::string::npos) throw std::invalid_argument("'" + text + "': " + accepted);
+    host = text.substr(1, close - 1);
+    port = text.substr(close + 2);
+  } else if (const size_t colon = text.rfind(':'); colon != std::string::npos) {
+    host = text.substr(0, colon);
+    port = text.substr(colon + 1);
+  }
+  const bool digits = !port.empty() && port.size() <= 5 &&
+                      port.find_first_not_of("0123456789") == std::string::npos;
+  if (host.empty() || !digits || std::stoi(port) > 65535) {
+    throw std::invalid_argument("'" + text + "': " + accepted);
+  }
+  options.host = host;
+  options.port = std::stoi(port);
+}
+
+std::string ViewerWebDir() {
+  if (const char* env = std::getenv("COLONY_VIEWER_DIR"); env && *env) return env;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path dir = exe.parent_path().parent_path() / "share" / "colony" / "viewer";
+    if (fs::is_regular_file(dir / "index.html", ec)) return dir.string();
+  }
+  return COLONY_INSTALL_VIEWER_DIR;
+}
+
+int ServeRun(Simulation& sim, const ServeOptions& options) {
+  const std::string web_dir = options.web_dir.empty() ? ViewerWebDir() : options.web_dir;
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::path(web_dir) / "index.html", ec)) {
+    throw RuntimeFailure("the viewer's page is missing: no index.html in " + web_dir +
+                         " (install Colony, or set COLONY_VIEWER_DIR to apps/colony/viewer/web)");
+  }
+  if (!fs::is_regular_file(fs::path(options.three_dir) / "build" / "three.module.js", ec)) {
+    throw RuntimeFailure("the viewer needs three.js: no build/three.module.js in " +
+                         options.three_dir + " (Debian: apt-get install libjs-three)");
+  }
+  if (!(options.updates_per_second > 0)) {
+    throw RuntimeFailure("the viewer's updates_per_second must be > 0, not " +
+                         std::to_string(options.updates_per_second));
+  }
+  if (!(options.speed == 0 || (options.speed >= kMinSpeed && options.speed <= kMaxSpeed))) {
+    throw RuntimeFailure(
+        "the viewer's speed must be 0 (as fast as possible) or from 0.1 to 1000, not " +
+        std::to_string(options.speed));
+  }
+  if (options.host != "127.0.0.1" && options.host != "localhost" && options.host != "::1") {
+    LogWarning("viewer: listening on " + options.host +
+               ": anyone who can reach this address can watch and control the run");
+  }
+  Server server(sim, options, web_dir);
+  return server.Run();
+}
+
+}  // namespace colony

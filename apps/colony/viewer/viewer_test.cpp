@@ -1,0 +1,476 @@
+// The live viewer, end to end: a served run seen through a real WebSocket
+// client (the scene, frames, commands, bad messages), its HTTP files, and
+// the page itself drawn by headless Chromium when it is installed.
+#include "apps/colony/viewer/viewer.h"
+
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <thread>
+
+#include "apps/colony/viewer/ws_client.h"
+#include "core/error.h"
+#include "core/simulation.h"
+#include "tests/test_util.h"
+
+namespace colony {
+namespace {
+
+using json = nlohmann::json;
+using viewer::WebSocketClient;
+using namespace std::chrono_literals;
+
+constexpr int kRobots = 20;
+
+std::unique_ptr<Simulation> LoadDiffusion(int robots = kRobots, int length_seconds = 60) {
+  ExperimentOptions options;
+  options.file = COLONY_SOURCE_DIR "/experiments/diffusion.xml";
+  options.overrides = {"arena.distribute.entity.quantity=" + std::to_string(robots),
+                       "framework.experiment.length=" + std::to_string(length_seconds)};
+  options.threads = 1;
+  return Simulation::Load(options);
+}
+
+// One decoded binary frame (docs/viewer.md).
+struct Frame {
+  uint32_t magic = 0, count = 0;
+  uint64_t tick = 0;
+  struct Record {
+    float x, y, z, yaw;
+    uint8_t r, g, b;
+  };
+  std::vector<Record> records;
+};
+
+Frame Decode(const std::string& data) {
+  Frame f;
+  EXPECT_GE(data.size(), 16u);
+  std::memcpy(&f.magic, data.data(), 4);
+  std::memcpy(&f.count, data.data() + 4, 4);
+  std::memcpy(&f.tick, data.data() + 8, 8);
+  EXPECT_EQ(data.size(), 16u + 20u * f.count);
+  for (uint32_t i = 0; i < f.count && 16 + 20 * (i + 1) <= data.size(); ++i) {
+    const char* p = data.data() + 16 + 20 * i;
+    Frame::Record r;
+    std::memcpy(&r, p, 16);
+    r.r = static_cast<uint8_t>(p[16]);
+    r.g = static_cast<uint8_t>(p[17]);
+    r.b = static_cast<uint8_t>(p[18]);
+    f.records.push_back(r);
+  }
+  return f;
+}
+
+// A run served on a free port in a thread, for as long as the object lives.
+class Served {
+ public:
+  explicit Served(Simulation& sim, ServeOptions options = {}) {
+    std::promise<std::string> url;
+    auto listening = url.get_future();
+    options.port = 0;
+    options.stop = &stop_;
+    options.on_listening = [&url](const std::string& u) { url.set_value(u); };
+    thread_ = std::thread([this, &sim, options] {
+      try {
+        status_ = ServeRun(sim, options);
+      } catch (const std::exception& e) {
+        error_ = e.what();
+        stop_ = true;
+      }
+    });
+    if (listening.wait_for(10s) == std::future_status::ready) url_ = listening.get();
+  }
+  ~Served() { Stop(); }
+  int Stop() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+    return status_;
+  }
+  const std::string& url() const { return url_; }  // http://127.0.0.1:PORT/
+  std::string ws() const { return "ws" + url_.substr(4); }
+  int port() const { return std::stoi(url_.substr(url_.rfind(':') + 1)); }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+  std::string url_, error_;
+  int status_ = -1;
+};
+
+// Reads messages until one of the JSON `type`, or a binary frame when
+// `type` is "frame"; fails after a few seconds.
+std::optional<WebSocketClient::Message> Next(WebSocketClient& client, const std::string& type) {
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while (std::chrono::steady_clock::now() < deadline) {
+    auto m = client.Receive(200ms);
+    if (!m) continue;
+    if (type == "frame" ? m->binary : !m->binary && json::parse(m->payload)["type"] == type)
+      return m;
+  }
+  ADD_FAILURE() << "no '" << type << "' message";
+  return std::nullopt;
+}
+
+void Connect(WebSocketClient& client, const std::string& uri) {
+  std::string error;
+  ASSERT_TRUE(client.Connect(uri, 5s, error)) << uri << ": " << error;
+}
+
+TEST(Viewer, SendsTheSceneOnceThenAFramePerStep) {
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  ASSERT_FALSE(served.url().empty());
+  WebSocketClient client;
+  Connect(client, served.ws());
+
+  // The scene: the 8 x 8 m arena, its floor, walls, boxes, cylinders and the
+  // light as fixed objects, and every robot.
+  auto scene_message = Next(client, "scene");
+  ASSERT_TRUE(scene_message);
+  const json scene = json::parse(scene_message->payload);
+  EXPECT_EQ(scene["arena"]["min"], json({-4.0, -4.0, 0.0}));
+  EXPECT_EQ(scene["arena"]["max"], json({4.0, 4.0, 1.0}));
+  EXPECT_EQ(scene["floor"]["color"], json({204, 204, 204}));  // gray80
+  EXPECT_DOUBLE_EQ(scene["dt"].get<double>(), 0.1);
+  std::set<std::string> objects;
+  for (const auto& o : scene["objects"]) objects.insert(o["id"].get<std::string>());
+  for (const char* id : {"box1", "box2", "box3", "cyl1", "cyl2", "light"}) {
+    EXPECT_TRUE(objects.count(id)) << id;
+  }
+  EXPECT_GE(objects.size(), 6u + 4u);  // and the 4 walls
+  ASSERT_EQ(scene["movers"].size(), static_cast<size_t>(kRobots));
+  for (const auto& m : scene["movers"]) {
+    EXPECT_EQ(m["type"], "marxbot");
+    EXPECT_EQ(m["robot"], true);
+    EXPECT_GT(m["radius"].get<double>(), 0.05);
+  }
+  // Paused at tick 0, with a frame of it.
+  const json status = json::parse(Next(client, "status")->payload);
+  EXPECT_EQ(status["tick"], 0);
+  EXPECT_EQ(status["playing"], false);
+  Frame first = Decode(Next(client, "frame")->payload);
+  EXPECT_EQ(first.magic, 0x31464C43u);
+  EXPECT_EQ(first.tick, 0u);
+  EXPECT_EQ(first.count, static_cast<uint32_t>(kRobots));
+
+  // One step: a frame of tick 1 with every robot, then a status saying so.
+  client.Send(R"({"cmd":"step"})");
+  Frame one = Decode(Next(client, "frame")->payload);
+  EXPECT_EQ(one.tick, 1u);
+  ASSERT_EQ(one.count, static_cast<uint32_t>(kRobots));
+  EXPECT_EQ(json::parse(Next(client, "status")->payload)["tick"], 1);
+  // Paused again: no more frames come.
+  EXPECT_FALSE(client.Receive(500ms));
+
+  client.Close();
+  EXPECT_EQ(served.Stop(), 0);
+  // The frame showed the robots where the simulation has them, LEDs green
+  // (the diffusion controller's colour).
+  EXPECT_EQ(sim->tick(), 1u);
+  for (int i = 0; i < kRobots; ++i) {
+    const uint32_t slot = sim->space().Find(scene["movers"][i]["id"].get<std::string>()).index;
+    const Pose& pose = sim->space().pose(slot);
+    EXPECT_NEAR(one.records[i].x, pose.position.x(), 1e-5);
+    EXPECT_NEAR(one.records[i].y, pose.position.y(), 1e-5);
+    EXPECT_NEAR(one.records[i].yaw, YawOf(pose.orientation), 1e-5);
+    EXPECT_EQ(one.records[i].g, 255);
+    EXPECT_EQ(one.records[i].r, 0);
+  }
+}
+
+TEST(Viewer, PlayAdvancesPauseStops) {
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  WebSocketClient client;
+  Connect(client, served.ws());
+  Next(client, "frame");
+  client.Send(R"({"cmd":"speed","value":"max"})");
+  EXPECT_EQ(json::parse(Next(client, "status")->payload)["speed"], "max");
+  client.Send(R"({"cmd":"play"})");
+  EXPECT_EQ(json::parse(Next(client, "status")->payload)["playing"], true);
+  uint64_t tick = 0;
+  for (int k = 0; k < 3; ++k) tick = Decode(Next(client, "frame")->payload).tick;
+  EXPECT_GT(tick, 1u);
+  client.Send(R"({"cmd":"pause"})");
+  const json paused = json::parse(Next(client, "status")->payload);
+  EXPECT_EQ(paused["playing"], false);
+  // Nothing moves while paused.
+  std::this_thread::sleep_for(300ms);
+  while (client.Receive(100ms)) {
+  }
+  client.Close();
+  served.Stop();
+  EXPECT_EQ(sim->tick(), paused["tick"].get<uint64_t>());
+}
+
+TEST(Viewer, BadMessagesGetAnErrorReplyAndChangeNothing) {
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  WebSocketClient client;
+  Connect(client, served.ws());
+  Next(client, "frame");
+  const std::pair<const char*, const char*> bad[] = {
+      {"garbage", "not JSON"},
+      {"[1,2,3]", "expected a JSON object with a string \"cmd\""},
+      {R"({"cmd":"fly"})", "unknown command 'fly'"},
+      {R"({"cmd":42})", "expected a JSON object with a string \"cmd\""},
+      {R"({"cmd":"speed","value":5000})", "speed value 5000 is not accepted"},
+      {R"({"cmd":"speed","value":0})", "speed value 0 is not accepted"},
+      {R"({"cmd":"speed"})", "speed value null is not accepted"},
+      {R"({"cmd":"step","count":"lots"})", "command 'step' takes no \"count\""},
+  };
+  for (const auto& [message, expected] : bad) {
+    client.Send(message);
+    auto reply = Next(client, "error");
+    ASSERT_TRUE(reply) << message;
+    EXPECT_NE(json::parse(reply->payload)["message"].get<std::string>().find(expected),
+              std::string::npos)
+        << message << " -> " << reply->payload;
+  }
+  // Binary messages, even a frame's bytes, are not commands.
+  client.Send(std::string("CLF1\0\0\0\0\xff\xfe", 10), true);
+  auto reply = Next(client, "error");
+  ASSERT_TRUE(reply);
+  EXPECT_NE(reply->payload.find("binary messages are not commands"), std::string::npos);
+  // An oversized message closes that connection ("message too big"); the
+  // run goes on serving others.
+  client.Send("{\"cmd\":\"" + std::string(10000, 'x') + "\"}");
+  for (int k = 0; k < 50 && !client.closed(); ++k) std::this_thread::sleep_for(20ms);
+  EXPECT_TRUE(client.closed());
+  EXPECT_EQ(client.close_code(), 1009);
+  WebSocketClient other;
+  Connect(other, served.ws());
+  Next(other, "frame");
+  other.Send(R"({"cmd":"step"})");
+  EXPECT_EQ(Decode(Next(other, "frame")->payload).tick, 1u);
+  other.Close();
+  served.Stop();
+  EXPECT_EQ(sim->tick(), 1u);  // the bad messages stepped nothing
+}
+
+TEST(Viewer, ResetGoesBackToTickZeroWithTheSameOrANewSeed) {
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  WebSocketClient client;
+  Connect(client, served.ws());
+  const Frame start = Decode(Next(client, "frame")->payload);
+  for (int k = 0; k < 3; ++k) {
+    client.Send(R"({"cmd":"step"})");
+    EXPECT_EQ(Decode(Next(client, "frame")->payload).tick, k + 1u);
+  }
+  // The same seed: the robots stand where they started.
+  client.Send(R"({"cmd":"reset"})");
+  ASSERT_TRUE(Next(client, "scene"));
+  Frame again = Decode(Next(client, "frame")->payload);
+  EXPECT_EQ(again.tick, 0u);
+  ASSERT_EQ(again.count, start.count);
+  for (uint32_t i = 0; i < start.count; ++i) {
+    EXPECT_EQ(again.records[i].x, start.records[i].x);
+    EXPECT_EQ(again.records[i].y, start.records[i].y);
+  }
+  // A new seed: placed elsewhere; a bad one is refused.
+  client.Send(R"({"cmd":"reset","seed":-3})");
+  EXPECT_NE(Next(client, "error")->payload.find("reset seed -3 is not accepted"),
+            std::string::npos);
+  client.Send(R"({"cmd":"reset","seed":99})");
+  EXPECT_EQ(json::parse(Next(client, "status")->payload)["seed"], 99);
+  Frame other = Decode(Next(client, "frame")->payload);
+  EXPECT_EQ(other.tick, 0u);
+  EXPECT_NE(other.records[0].x, start.records[0].x);
+  client.Close();
+  served.Stop();
+  EXPECT_EQ(sim->seed(), 99u);
+}
+
+TEST(Viewer, QuitEndsTheServedRun) {
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  WebSocketClient client;
+  Connect(client, served.ws());
+  client.Send(R"({"cmd":"quit"})");
+  for (int k = 0; k < 100 && !client.closed(); ++k) std::this_thread::sleep_for(20ms);
+  EXPECT_TRUE(client.closed());
+  EXPECT_EQ(served.Stop(), 0);
+}
+
+TEST(Viewer, ServedRunWithNobodyConnectedEqualsAPlainRun) {
+  auto plain = LoadDiffusion(kRobots, 5);
+  while (!plain->Done()) plain->Step();
+  auto served_sim = LoadDiffusion(kRobots, 5);
+  std::atomic<bool> stop{false};
+  ServeOptions options;
+  options.start_playing = true;
+  options.speed = 0;
+  options.stop = &stop;
+  options.on_listening = [](const std::string&) {};
+  options.after_tick = [&stop](Simulation& s) { stop = stop || s.Done(); };
+  EXPECT_EQ(ServeRun(*served_sim, options), 0);
+  EXPECT_EQ(served_sim->tick(), plain->tick());
+  EXPECT_EQ(served_sim->StateHash(), plain->StateHash());
+}
+
+// GET `path` from 127.0.0.1:`port`: the status line and the body.
+std::pair<std::string, std::string> HttpGet(int port, const std::string& path) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<uint16_t>(port));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    close(fd);
+    return {"connect failed", ""};
+  }
+  const std::string request = "GET " + path + " HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n";
+  (void)!write(fd, request.data(), request.size());
+  std::string response;
+  char buffer[65536];
+  for (ssize_t n; (n = read(fd, buffer, sizeof buffer)) > 0;) response.append(buffer, n);
+  close(fd);
+  const size_t body = response.find("\r\n\r\n");
+  return {response.substr(0, response.find("\r\n")),
+          body == std::string::npos ? "" : response.substr(body + 4)};
+}
+
+TEST(Viewer, ServesThePageAndThreeJsAndNothingElse) {
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  auto [status, body] = HttpGet(served.port(), "/");
+  EXPECT_EQ(status, "HTTP/1.1 200 OK");
+  EXPECT_NE(body.find("<html"), std::string::npos);
+  std::tie(status, body) = HttpGet(served.port(), "/three/build/three.module.js");
+  EXPECT_EQ(status, "HTTP/1.1 200 OK");
+  EXPECT_NE(body.find("InstancedMesh"), std::string::npos);
+  std::tie(status, body) = HttpGet(served.port(), "/three/examples/jsm/controls/OrbitControls.js");
+  EXPECT_EQ(status, "HTTP/1.1 200 OK");
+  for (const char* path : {"/../../etc/passwd", "/three/../../../etc/passwd", "/nothing.js"}) {
+    EXPECT_EQ(HttpGet(served.port(), path).first, "HTTP/1.1 404 Not Found") << path;
+  }
+}
+
+TEST(Viewer, AddressesAreCheckedAndABusyPortIsNamed) {
+  ServeOptions options;
+  ParseServeAddress("8080", options);
+  EXPECT_EQ(options.host, "127.0.0.1");
+  EXPECT_EQ(options.port, 8080);
+  ParseServeAddress("0.0.0.0:9000", options);
+  EXPECT_EQ(options.host, "0.0.0.0");
+  EXPECT_EQ(options.port, 9000);
+  ParseServeAddress("[::1]:7", options);
+  EXPECT_EQ(options.host, "::1");
+  for (const char* bad : {"", "http", "70000", ":80", "host:", "[::1]80", "-1", "123456"}) {
+    try {
+      ParseServeAddress(bad, options);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("expected [HOST:]PORT"), std::string::npos) << e.what();
+    }
+  }
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  ServeOptions same;
+  same.port = served.port();
+  same.on_listening = [](const std::string&) {};
+  try {
+    ServeRun(*sim, same);
+    ADD_FAILURE() << "served twice on port " << same.port;
+  } catch (const RuntimeFailure& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot listen on 127.0.0.1:" + std::to_string(same.port)),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// The page in a real browser: headless Chromium loads it from the server,
+// draws the scene with WebGL (software) and writes what it drew into the
+// DOM; a screenshot is kept for docs/viewer.md.
+TEST(Viewer, ChromiumDrawsTheRobots) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!std::filesystem::exists(chromium))
+    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
+  std::filesystem::create_directories(dir);
+  const std::string flags =
+      " --headless=new --no-sandbox --disable-gpu --use-angle=swiftshader "
+      "--enable-unsafe-swiftshader --hide-scrollbars --virtual-time-budget=15000 "
+      "--window-size=1024,768 --user-data-dir=" +
+      dir + "/profile ";
+  const std::string dom = dir + "/dom.html";
+  const std::string command = std::string(chromium) + flags + "--dump-dom '" + served.url() +
+                              "' > " + dom + " 2> " + dir + "/chromium.log";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  std::ifstream in(dom);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::smatch match;
+  ASSERT_TRUE(std::regex_search(text, match, std::regex("data-robots-drawn=\"(\\d+)\"")))
+      << "the page did not say it drew; DOM in " << dom;
+  EXPECT_EQ(std::stoi(match[1]), kRobots);
+  const std::string shot = dir + "/viewer.png";
+  std::filesystem::remove(shot);
+  const std::string screenshot = std::string(chromium) + flags + "--screenshot=" + shot + " '" +
+                                 served.url() + "' 2>> " + dir + "/chromium.log";
+  ASSERT_EQ(std::system(screenshot.c_str()), 0) << screenshot;
+  EXPECT_TRUE(std::filesystem::exists(shot));
+}
+
+// The command a user types: `colony run FILE --serve 0` prints the URL,
+// serves the run paused, steps when asked and ends with the page's quit.
+TEST(Viewer, ColonyRunServeServesTheRunUntilThePageEndsIt) {
+  const std::string command = std::string(COLONY_BINARY_DIR "/bin/colony run ") + COLONY_SOURCE_DIR
+                              "/experiments/diffusion.xml --set "
+                              "arena.distribute.entity.quantity=7 --threads 1 --serve 0 2>&1";
+  FILE* out = popen(command.c_str(), "r");
+  ASSERT_NE(out, nullptr);
+  char line[512] = {};
+  ASSERT_NE(std::fgets(line, sizeof line, out), nullptr);
+  std::smatch url;
+  const std::string first = line;
+  ASSERT_TRUE(std::regex_search(first, url, std::regex("http://127\\.0\\.0\\.1:([0-9]+)/")))
+      << first;
+  EXPECT_NE(first.find("7 robots, paused at tick 0"), std::string::npos) << first;
+  WebSocketClient client;
+  Connect(client, "ws://127.0.0.1:" + url[1].str() + "/");
+  const auto scene = Next(client, "scene");
+  ASSERT_TRUE(scene);
+  EXPECT_EQ(json::parse(scene->payload)["movers"].size(), 7u);
+  Next(client, "frame");  // tick 0
+  client.Send(R"({"cmd":"step"})");
+  client.Send(R"({"cmd":"step"})");
+  for (int frames = 0; frames < 2;) {
+    if (!Next(client, "frame")) break;
+    ++frames;
+  }
+  client.Send(R"({"cmd":"quit"})");
+  std::string rest;
+  while (std::fgets(line, sizeof line, out)) rest += line;
+  const int status = pclose(out);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << rest;
+  EXPECT_NE(rest.find("served 2 ticks of 7 robots"), std::string::npos) << rest;
+}
+
+// What cannot be served is refused before loading, with the reason.
+TEST(Viewer, ColonyRunServeRefusesABadAddressAndARunFolder) {
+  const std::string colony =
+      COLONY_BINARY_DIR "/bin/colony run " COLONY_SOURCE_DIR "/experiments/diffusion.xml ";
+  auto r = testing::RunCommand(colony + "--serve 70000 2>&1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--serve '70000'"), std::string::npos) << r.output;
+  r = testing::RunCommand(colony + "--serve 0 --out /tmp/colony_serve_out 2>&1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--serve and --out do not go together"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists("/tmp/colony_serve_out"));
+}
+
+}  // namespace
+}  // namespace colony

@@ -1,0 +1,444 @@
+// Colony's live viewer: draws a served run with three.js (Debian's
+// libjs-three, r111) and steers it. The protocol is in docs/viewer.md: a
+// JSON scene once, binary frames of poses and LED colours, JSON commands.
+//
+// Robots are drawn with one InstancedMesh per part per robot type, so 10,000
+// robots cost a few draw calls. Every part is modelled in "robot units"
+// (x and y in radii, z in heights, origin at the centre of the base, +x the
+// heading); one matrix per robot (pose, then scale by its size) places all
+// its parts. Per-robot colours (body, LEDs) are an instanced "color"
+// attribute read through vertexColors.
+import * as THREE from '/three/build/three.module.js';
+import { OrbitControls } from '/three/examples/jsm/controls/OrbitControls.js';
+
+const FRAME_MAGIC = 0x31464C43;  // "CLF1"
+const HEADER_BYTES = 16, RECORD_BYTES = 20;
+
+const view = document.getElementById('view');
+const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(window.devicePixelRatio);
+renderer.setSize(window.innerWidth, window.innerHeight);
+renderer.setClearColor(0x20242a);
+view.appendChild(renderer.domElement);
+
+const camera = new THREE.PerspectiveCamera(45, window.innerWidth / window.innerHeight, 0.01, 1000);
+camera.up.set(0, 0, 1);  // the simulation's z is up
+const controls = new OrbitControls(camera, renderer.domElement);
+controls.screenSpacePanning = true;
+controls.addEventListener('change', () => { needsRender = true; });
+
+const world = new THREE.Scene();
+world.add(new THREE.HemisphereLight(0xffffff, 0x555555, 0.75));
+const sun = new THREE.DirectionalLight(0xffffff, 0.55);
+sun.position.set(-0.35, -0.5, 1);
+world.add(sun);
+
+let scene = null;        // the scene description (JSON)
+let arena = null;        // THREE.Group: floor, grid, fixed objects
+let groups = [];         // per robot type: { parts, members, ... }
+let movers = [];         // per mover: { desc, group, index, scale, pose, led }
+let tick = 0, playing = false, done = false, speed = 1;
+let selected = -1;
+let needsRender = true;
+let socket = null;
+
+const highlight = new THREE.Mesh(new THREE.RingBufferGeometry(1.25, 1.45, 32),
+                                 new THREE.MeshBasicMaterial({ color: 0xffdd00, side: THREE.DoubleSide }));
+highlight.visible = false;
+world.add(highlight);
+
+// --- Parts of robots, in robot units -------------------------------------
+
+// An upright cylinder from z0 to z1 (robot units) of radius r, centred at (x, y).
+function cylinder(r, z0, z1, x = 0, y = 0, segments = 24) {
+  const g = new THREE.CylinderBufferGeometry(r, r, z1 - z0, segments);
+  g.rotateX(Math.PI / 2);
+  g.translate(x, y, (z0 + z1) / 2);
+  return g;
+}
+// A box of size (sx, sy, sz) whose base is centred at (x, y, z0).
+function box(sx, sy, sz, x = 0, y = 0, z0 = 0) {
+  const g = new THREE.BoxBufferGeometry(sx, sy, sz);
+  g.translate(x, y, z0 + sz / 2);
+  return g;
+}
+function torus(radius, tube, z) {
+  const g = new THREE.TorusBufferGeometry(radius, tube, 6, 40);
+  g.translate(0, 0, z);
+  return g;
+}
+
+// colour: 'body' (the entity's colour), 'led' (from the frames) or a fixed RGB hex.
+// glow: drawn unlit (LEDs).
+function partsOf(desc) {
+  const dark = 0x2a2a30, plate = 0xaaaaaa, metal = 0x9696a0;
+  switch (desc.type) {
+    case 'marxbot':  // treels and body, LED ring, top plate, the camera housing at the front
+      return [
+        { geometry: cylinder(1, 0, 0.62), color: 'body' },
+        { geometry: cylinder(0.82, 0.62, 0.82), color: 'body' },
+        { geometry: cylinder(0.9, 0.82, 0.92), color: 'led', glow: true },
+        { geometry: cylinder(0.7, 0.92, 1.0), color: plate },
+        { geometry: box(0.45, 0.35, 0.08, 0.5, 0, 1.0), color: dark },
+      ];
+    case 'handbot':  // hull, LED ring, launcher on top, head and arms reaching forward
+      return [
+        { geometry: cylinder(1, 0, 0.38), color: 'body' },
+        { geometry: cylinder(0.9, 0.38, 0.46), color: 'led', glow: true },
+        { geometry: cylinder(1, 0.46, 0.76), color: 'body' },
+        { geometry: cylinder(0.24, 0.76, 1.0, 0, 0, 8), color: dark },
+        { geometry: box(0.45, 0.7, 0.12, 0.75, 0, 0.6), color: metal },
+        { geometry: box(0.9, 0.12, 0.08, 1.3, 0.45, 0.62), color: metal },
+        { geometry: box(0.9, 0.12, 0.08, 1.3, -0.45, 0.62), color: metal },
+      ];
+    case 'eyebot': {  // legs, body, RGB LED collar, rotors on the diagonals, protective ring
+      const parts = [
+        { geometry: cylinder(0.28, 0.33, 0.8), color: 'body' },
+        { geometry: cylinder(0.2, 0.8, 1.0), color: metal },
+        { geometry: cylinder(0.22, 0.28, 0.33), color: 'led', glow: true },
+        { geometry: torus(0.97, 0.03, 0.67), color: metal },
+        { geometry: box(0.16, 0.16, 0.04, 0.2, 0, 1.0), color: dark },
+      ];
+      for (let k = 0; k < 4; ++k) {
+        const a = Math.PI / 4 + k * Math.PI / 2, c = Math.cos(a) * 0.6, s = Math.sin(a) * 0.6;
+        parts.push({ geometry: cylinder(0.38, 0.68, 0.71, c, s, 16), color: 0x6e6e73 });
+        parts.push({ geometry: box(0.05, 0.05, 0.6, c * 0.6, s * 0.6, 0), color: dark });
+      }
+      return parts;
+    }
+    default: {
+      const shape = desc.shape === 'box' ? box(2, 2, 1) : cylinder(1, 0, 1);
+      if (!desc.robot) return [{ geometry: shape, color: 'led' }];  // its colour, from the frames
+      // Another robot type: its shape, an LED disc on top and a heading mark.
+      return [
+        { geometry: shape, color: 'body' },
+        { geometry: cylinder(0.6, 1.0, 1.04), color: 'led', glow: true },
+        { geometry: box(0.5, 0.3, 0.06, 0.55, 0, 1.0), color: dark },
+      ];
+    }
+  }
+}
+
+// One InstancedMesh per part for the `members` (mover indices) of one group.
+function buildGroup(key, members) {
+  const desc = movers[members[0]].desc;
+  const n = members.length;
+  const parts = partsOf(desc).map((spec) => {
+    const geometry = spec.geometry;
+    let material;
+    if (typeof spec.color === 'number') {
+      material = new THREE.MeshLambertMaterial({ color: spec.color });
+    } else {
+      const colors = new THREE.InstancedBufferAttribute(new Float32Array(n * 3), 3);
+      if (spec.color === 'body') {
+        members.forEach((m, i) => {
+          const c = movers[m].desc.color;
+          colors.setXYZ(i, c[0] / 255, c[1] / 255, c[2] / 255);
+        });
+      }
+      geometry.setAttribute('color', colors);
+      const options = { vertexColors: THREE.VertexColors };
+      material = spec.glow ? new THREE.MeshBasicMaterial(options) : new THREE.MeshLambertMaterial(options);
+    }
+    const mesh = new THREE.InstancedMesh(geometry, material, n);
+    mesh.frustumCulled = false;  // its bounds are the unit robot's, not the swarm's
+    world.add(mesh);
+    return { mesh, led: spec.color === 'led' ? geometry.getAttribute('color') : null };
+  });
+  members.forEach((m, i) => { movers[m].group = groups.length; movers[m].index = i; });
+  groups.push({ key, parts, members });
+}
+
+// --- Scene ----------------------------------------------------------------
+
+function clearScene() {
+  if (arena) world.remove(arena);
+  for (const g of groups) {
+    for (const p of g.parts) {
+      world.remove(p.mesh);
+      p.mesh.geometry.dispose();
+      p.mesh.material.dispose();
+    }
+  }
+  groups = [];
+  movers = [];
+}
+
+function color3(rgb) { return new THREE.Color(rgb[0] / 255, rgb[1] / 255, rgb[2] / 255); }
+
+function buildArena(desc) {
+  const group = new THREE.Group();
+  const [x0, y0, z0] = desc.arena.min, [x1, y1] = desc.arena.max;
+  const floor = new THREE.Mesh(new THREE.PlaneBufferGeometry(x1 - x0, y1 - y0),
+                               new THREE.MeshLambertMaterial({ color: color3(desc.floor.color) }));
+  floor.position.set((x0 + x1) / 2, (y0 + y1) / 2, z0);
+  group.add(floor);
+  // Grid lines: 1 m apart, 10 times farther until at most 100 cross a side.
+  let spacing = 1;
+  while (Math.max(x1 - x0, y1 - y0) / spacing > 100) spacing *= 10;
+  const points = [];
+  for (let x = Math.ceil(x0 / spacing) * spacing; x <= x1; x += spacing) points.push(x, y0, z0 + 0.001, x, y1, z0 + 0.001);
+  for (let y = Math.ceil(y0 / spacing) * spacing; y <= y1; y += spacing) points.push(x0, y, z0 + 0.001, x1, y, z0 + 0.001);
+  const grid = new THREE.BufferGeometry();
+  grid.setAttribute('position', new THREE.Float32BufferAttribute(points, 3));
+  group.add(new THREE.LineSegments(grid, new THREE.LineBasicMaterial({ color: 0x000000, transparent: true, opacity: 0.15 })));
+  for (const d of desc.floor.ditches) {
+    const pit = new THREE.Mesh(new THREE.PlaneBufferGeometry(d.max[0] - d.min[0], d.max[1] - d.min[1]),
+                               new THREE.MeshBasicMaterial({ color: 0x111111 }));
+    pit.position.set((d.min[0] + d.max[0]) / 2, (d.min[1] + d.max[1]) / 2, z0 + 0.002);
+    group.add(pit);
+  }
+  for (const o of desc.objects) {
+    const holder = new THREE.Group();
+    holder.position.set(...o.position);
+    const [w, qx, qy, qz] = o.orientation;
+    holder.quaternion.set(qx, qy, qz, w);
+    let mesh = null;
+    if (o.light) {
+      mesh = new THREE.Mesh(new THREE.SphereBufferGeometry(0.03, 12, 8), new THREE.MeshBasicMaterial({ color: color3(o.color) }));
+    } else if (o.shape === 'box') {
+      mesh = new THREE.Mesh(box(o.size[0], o.size[1], o.size[2]), new THREE.MeshLambertMaterial({ color: color3(o.color) }));
+    } else if (o.shape === 'cylinder') {
+      mesh = new THREE.Mesh(cylinder(o.radius, 0, o.size[2], 0, 0, 32), new THREE.MeshLambertMaterial({ color: color3(o.color) }));
+    }
+    if (!mesh) continue;
+    mesh.userData.id = o.id;
+    holder.add(mesh);
+    group.add(holder);
+  }
+  return group;
+}
+
+function buildScene(desc) {
+  clearScene();
+  scene = desc;
+  arena = buildArena(desc);
+  world.add(arena);
+  movers = desc.movers.map((d) => ({
+    desc: d,
+    group: -1,
+    index: -1,
+    // Robot units to metres: radii across, height up.
+    scale: d.shape === 'box' ? [d.size[0] / 2, d.size[1] / 2, d.size[2]] : [d.radius, d.radius, d.size[2]],
+    pose: [0, 0, 0, 0],
+    led: [0, 0, 0],
+  }));
+  const byType = new Map();
+  movers.forEach((m, i) => {
+    const key = (m.desc.robot ? 'robot:' : 'object:') + m.desc.type + ':' + m.desc.shape;
+    if (!byType.has(key)) byType.set(key, []);
+    byType.get(key).push(i);
+  });
+  for (const [key, members] of byType) buildGroup(key, members);
+  if (selected >= movers.length) selected = -1;
+  const first = !camera.userData.placed;
+  if (first) perspectiveView();
+  needsRender = true;
+}
+
+// --- Frames ---------------------------------------------------------------
+
+const matrix = new THREE.Matrix4(), position = new THREE.Vector3(), turn = new THREE.Quaternion();
+const scaleVec = new THREE.Vector3(), zAxis = new THREE.Vector3(0, 0, 1);
+
+function applyFrame(buffer) {
+  const data = new DataView(buffer);
+  if (buffer.byteLength < HEADER_BYTES || data.getUint32(0, true) !== FRAME_MAGIC) {
+    return showMessage('a frame that is not one (bad magic) was ignored');
+  }
+  const count = data.getUint32(4, true);
+  if (!scene || count !== movers.length || buffer.byteLength !== HEADER_BYTES + RECORD_BYTES * count) {
+    return showMessage(`a frame of ${count} movers does not match the scene's ${movers.length}; ignored`);
+  }
+  tick = Number(data.getBigUint64(8, true));
+  for (let i = 0; i < count; ++i) {
+    const o = HEADER_BYTES + RECORD_BYTES * i;
+    const m = movers[i];
+    const x = data.getFloat32(o, true), y = data.getFloat32(o + 4, true);
+    const z = data.getFloat32(o + 8, true), yaw = data.getFloat32(o + 12, true);
+    m.pose[0] = x; m.pose[1] = y; m.pose[2] = z; m.pose[3] = yaw;
+    m.led[0] = data.getUint8(o + 16); m.led[1] = data.getUint8(o + 17); m.led[2] = data.getUint8(o + 18);
+    position.set(x, y, z);
+    turn.setFromAxisAngle(zAxis, yaw);
+    scaleVec.set(m.scale[0], m.scale[1], m.scale[2]);
+    matrix.compose(position, turn, scaleVec);
+    for (const part of groups[m.group].parts) {
+      matrix.toArray(part.mesh.instanceMatrix.array, m.index * 16);
+      if (part.led) part.led.setXYZ(m.index, m.led[0] / 255, m.led[1] / 255, m.led[2] / 255);
+    }
+  }
+  for (const g of groups) {
+    for (const part of g.parts) {
+      part.mesh.instanceMatrix.needsUpdate = true;
+      if (part.led) part.led.needsUpdate = true;
+    }
+  }
+  needsRender = true;
+  framesApplied = true;
+}
+let framesApplied = false;
+
+// --- Views and picking ----------------------------------------------------
+
+function arenaCentreAndSpan() {
+  const [x0, y0, z0] = scene.arena.min, [x1, y1] = scene.arena.max;
+  return { c: new THREE.Vector3((x0 + x1) / 2, (y0 + y1) / 2, z0), span: Math.max(x1 - x0, y1 - y0) };
+}
+function placeCamera(offset) {
+  if (!scene) return;
+  const { c, span } = arenaCentreAndSpan();
+  camera.near = span / 2000;
+  camera.far = span * 50;
+  camera.updateProjectionMatrix();
+  controls.target.copy(c);
+  camera.position.copy(c).addScaledVector(offset, span);
+  camera.userData.placed = true;
+  controls.update();
+  needsRender = true;
+}
+function perspectiveView() { placeCamera(new THREE.Vector3(0, -0.95, 0.8)); }
+// Straight down, north up (a hair off vertical: the orbit controls' pole).
+function topView() { placeCamera(new THREE.Vector3(0, -1e-4, 1.25)); }
+
+// The mover drawn nearest to the pointer, within a few pixels of its body.
+function pick(clientX, clientY) {
+  const rect = renderer.domElement.getBoundingClientRect();
+  const p = new THREE.Vector3();
+  let best = -1, bestDistance = Infinity;
+  movers.forEach((m, i) => {
+    p.set(m.pose[0], m.pose[1], m.pose[2] + m.scale[2] / 2).project(camera);
+    if (p.z > 1) return;  // behind the camera
+    const sx = (p.x + 1) / 2 * rect.width + rect.left, sy = (1 - p.y) / 2 * rect.height + rect.top;
+    const d = Math.hypot(sx - clientX, sy - clientY);
+    if (d < bestDistance) { bestDistance = d; best = i; }
+  });
+  if (best < 0) return -1;
+  // Its radius on screen, at least 12 pixels.
+  const m = movers[best];
+  const dist = camera.position.distanceTo(new THREE.Vector3(m.pose[0], m.pose[1], m.pose[2]));
+  const pixels = m.scale[0] / (dist * Math.tan(camera.fov * Math.PI / 360)) * rect.height / 2;
+  return bestDistance <= Math.max(12, 1.5 * pixels) ? best : -1;
+}
+
+function showInspect() {
+  const panel = document.getElementById('inspect');
+  if (selected < 0) { panel.hidden = true; highlight.visible = false; return; }
+  const m = movers[selected];
+  const [x, y, z, yaw] = m.pose;
+  panel.hidden = false;
+  panel.textContent =
+    `${m.desc.id}  (${m.desc.type}${m.desc.robot ? '' : ', object'})\n` +
+    `x   ${x.toFixed(3)} m\ny   ${y.toFixed(3)} m\nz   ${z.toFixed(3)} m\n` +
+    `yaw ${(yaw * 180 / Math.PI).toFixed(1)} deg\n` +
+    `LED ${m.led.join(', ')}\ntick ${tick}`;
+  highlight.visible = true;
+  highlight.position.set(x, y, z + 0.002);
+  highlight.scale.set(m.scale[0], m.scale[1], 1);
+}
+
+// --- Messages and controls ------------------------------------------------
+
+let messageTimer = null;
+function showMessage(text) {
+  const box = document.getElementById('message');
+  box.textContent = text;
+  box.hidden = false;
+  clearTimeout(messageTimer);
+  messageTimer = setTimeout(() => { box.hidden = true; }, 6000);
+}
+
+function send(command) {
+  if (socket && socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(command));
+}
+
+function updateBar() {
+  const seconds = scene ? (tick * scene.dt).toFixed(1) : '0';
+  document.getElementById('clock').textContent =
+    `tick ${tick}  t = ${seconds} s  ${done ? '(done)' : playing ? '' : '(paused)'}`;
+  document.getElementById('play').innerHTML = playing ? '&#10074;&#10074; Pause' : '&#9654; Play';
+  document.getElementById('play').disabled = done;
+  document.getElementById('step').disabled = done;
+  document.body.dataset.tick = tick;
+  document.title = `Colony: tick ${tick}`;
+}
+
+function connect() {
+  socket = new WebSocket(`ws://${location.host}/`);
+  socket.binaryType = 'arraybuffer';
+  socket.onmessage = (event) => {
+    if (event.data instanceof ArrayBuffer) {
+      applyFrame(event.data);
+      updateBar();
+      return;
+    }
+    const message = JSON.parse(event.data);
+    if (message.type === 'scene') buildScene(message);
+    else if (message.type === 'status') {
+      tick = message.tick; playing = message.playing; done = message.done; speed = message.speed;
+      if (document.activeElement !== document.getElementById('seed')) {
+        document.getElementById('seed').value = String(message.seed);
+      }
+      document.getElementById('speed').value = String(speed);
+      updateBar();
+    } else if (message.type === 'error') showMessage('the simulator says: ' + message.message);
+  };
+  socket.onclose = (event) => {
+    playing = false;
+    document.getElementById('clock').textContent =
+      `disconnected (code ${event.code}${event.reason ? ': ' + event.reason : ''})`;
+  };
+}
+
+document.getElementById('play').onclick = () => send({ cmd: playing ? 'pause' : 'play' });
+document.getElementById('step').onclick = () => send({ cmd: 'step' });
+document.getElementById('speed').onchange = (e) => {
+  const v = e.target.value;
+  send({ cmd: 'speed', value: v === 'max' ? 'max' : Number(v) });
+};
+document.getElementById('reset').onclick = () => {
+  const seed = document.getElementById('seed').value;
+  send(seed === '' ? { cmd: 'reset' } : { cmd: 'reset', seed: Number(seed) });
+};
+document.getElementById('top').onclick = topView;
+document.getElementById('persp').onclick = perspectiveView;
+document.getElementById('quit').onclick = () => {
+  if (confirm('End the served run? The simulator stops serving.')) send({ cmd: 'quit' });
+};
+window.addEventListener('keydown', (e) => {
+  if (e.target.tagName === 'SELECT' || e.target.tagName === 'INPUT') return;
+  if (e.key === ' ') { send({ cmd: playing ? 'pause' : 'play' }); e.preventDefault(); }
+  else if (e.key === 's') send({ cmd: 'step' });
+  else if (e.key === 't') topView();
+  else if (e.key === 'p') perspectiveView();
+  else if (e.key === 'Escape') { selected = -1; needsRender = true; }
+});
+let down = null;
+renderer.domElement.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
+renderer.domElement.addEventListener('pointerup', (e) => {
+  if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
+  selected = pick(e.clientX, e.clientY);
+  needsRender = true;
+});
+window.addEventListener('resize', () => {
+  camera.aspect = window.innerWidth / window.innerHeight;
+  camera.updateProjectionMatrix();
+  renderer.setSize(window.innerWidth, window.innerHeight);
+  needsRender = true;
+});
+
+// Draws when something changed; records what was drawn for tests.
+function animate() {
+  requestAnimationFrame(animate);
+  if (!needsRender) return;
+  needsRender = false;
+  showInspect();
+  renderer.render(world, camera);
+  if (framesApplied) {
+    document.body.dataset.robotsDrawn = movers.filter((m) => m.desc.robot).length;
+    document.body.dataset.moversDrawn = movers.length;
+  }
+}
+
+window.addEventListener('error', (e) => showMessage('viewer error: ' + e.message));
+connect();
+animate();
