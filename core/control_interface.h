@@ -69,6 +69,16 @@ class Params {
   void SetBaseDirectory(std::string dir) { base_directory_ = std::move(dir); }
   // Every key a getter asked for, present or not (to suggest a correction).
   const std::vector<std::string>& Asked() const { return asked_; }
+  // The default each getter was given, the first time it asked for its key
+  // (Has asks without one): the host checks them against a controller's
+  // declared parameters.
+  struct Default {
+    enum Kind { kRequired, kNumber, kText };
+    std::string key;
+    std::string text;  // the number (shortest round-trip), or the text ("true"/"false" for a bool)
+    Kind kind = kRequired;
+  };
+  const std::vector<Default>& Defaults() const { return defaults_; }
 
  private:
   struct Entry {
@@ -77,8 +87,10 @@ class Params {
     mutable bool read = false;
   };
   const Entry* Find(std::string_view key) const;
+  void NoteDefault(std::string_view key, std::string text, Default::Kind kind) const;
   std::vector<Entry> entries_;
   mutable std::vector<std::string> asked_;
+  mutable std::vector<Default> defaults_;
   std::string base_directory_;
 };
 

@@ -1,4 +1,5 @@
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 
@@ -29,14 +30,28 @@ const Params::Entry* Params::Find(std::string_view key) const {
   return nullptr;
 }
 
+void Params::NoteDefault(std::string_view key, std::string text, Default::Kind kind) const {
+  for (const auto& d : defaults_)
+    if (d.key == key) return;
+  defaults_.push_back({std::string(key), std::move(text), kind});
+}
+
+// Shortest text that reads back as `v`.
+static std::string NumberText(double v) {
+  char text[32];
+  return std::string(text, std::to_chars(text, text + sizeof text, v).ptr);
+}
+
 bool Params::Has(std::string_view key) const { return Find(key) != nullptr; }
 
 std::string Params::GetString(std::string_view key, std::string_view fallback) const {
+  NoteDefault(key, std::string(fallback), Default::kText);
   const Entry* e = Find(key);
   return e ? e->value : std::string(fallback);
 }
 
 std::string Params::GetString(std::string_view key) const {
+  NoteDefault(key, "", Default::kRequired);
   const Entry* e = Find(key);
   if (!e)
     throw ParamError(std::string(key), "",
@@ -62,16 +77,19 @@ static double ParseDouble(const std::string& key, const std::string& text, doubl
 }
 
 double Params::GetDouble(std::string_view key, double fallback, double min, double max) const {
+  NoteDefault(key, NumberText(fallback), Default::kNumber);
   const Entry* e = Find(key);
   return e ? ParseDouble(e->key, e->value, min, max) : fallback;
 }
 
 double Params::GetDouble(std::string_view key) const {
+  NoteDefault(key, "", Default::kRequired);
   return ParseDouble(std::string(key), GetString(key), -1e300, 1e300);
 }
 
 std::vector<double> Params::GetNumbers(std::string_view key, std::string_view fallback,
                                        size_t count, double min, double max) const {
+  NoteDefault(key, std::string(fallback), Default::kText);
   const Entry* e = Find(key);
   const std::string name(key);
   const std::string text = e ? e->value : std::string(fallback);
@@ -95,6 +113,7 @@ std::vector<double> Params::GetNumbers(std::string_view key, std::string_view fa
 }
 
 int64_t Params::GetInt(std::string_view key, int64_t fallback, int64_t min, int64_t max) const {
+  NoteDefault(key, std::to_string(fallback), Default::kNumber);
   const Entry* e = Find(key);
   if (!e) return fallback;
   const char* begin = e->value.c_str();
@@ -114,6 +133,7 @@ int64_t Params::GetInt(std::string_view key, int64_t fallback, int64_t min, int6
 }
 
 bool Params::GetBool(std::string_view key, bool fallback) const {
+  NoteDefault(key, fallback ? "true" : "false", Default::kText);
   const Entry* e = Find(key);
   if (!e) return fallback;
   if (e->value == "true" || e->value == "1") return true;

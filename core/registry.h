@@ -27,12 +27,23 @@ enum class PluginKind {
 const char* PluginKindName(PluginKind kind);  // "sensor", "loop_functions"...
 std::vector<PluginKind> AllPluginKinds();
 
-// One XML attribute a plugin accepts.
+// One XML attribute a plugin accepts (for controllers: one <params>
+// attribute; the name "*" accepts any).
 struct AttributeDoc {
   std::string name;
   std::string accepted;       // "a number > 0 (metres)"
   std::string default_value;  // empty when required
   std::string summary;
+};
+
+// What a controller sees of a sensor or actuator: the control-interface
+// header it includes, the C++ class it asks for (GetSensor<T> /
+// GetActuator<T>), and the members it reads or calls, each with its units
+// ("readings(): one Reading per sensor: value (0..1), angle (rad)").
+struct DeviceInterface {
+  std::string header;     // "sensors/proximity/proximity.h"
+  std::string cpp_class;  // "colony::ProximitySensor"
+  std::vector<std::string> members;
 };
 
 struct PluginInfo {
@@ -54,9 +65,32 @@ struct PluginInfo {
   std::vector<std::string> aliases;  // other accepted element names
   // Physics models: the components (core/component.h) they simulate.
   std::vector<std::string> components;
+  // Sensors and actuators: what a controller includes, uses and reads.
+  DeviceInterface control_interface;
   std::string library;  // filled in when loaded from a shared library
   std::vector<std::string> AttributeNames() const;
 };
+
+// A sensor's or actuator's PluginInfo: its control interface comes after the
+// summary (COLONY_REGISTER_SENSOR and COLONY_REGISTER_ACTUATOR require it).
+inline PluginInfo DevicePluginInfo(PluginKind kind, std::string label, std::string implementation,
+                                   std::string summary, DeviceInterface control_interface,
+                                   std::vector<AttributeDoc> attributes = {},
+                                   std::vector<std::string> aliases = {}) {
+  PluginInfo info(kind, std::move(label), std::move(implementation), std::move(summary),
+                  std::move(attributes), std::move(aliases));
+  info.control_interface = std::move(control_interface);
+  return info;
+}
+
+class Params;
+// What a controller that declares its parameters (PluginInfo::attributes)
+// did wrong in reading `params` during Init: each read of a parameter it did
+// not declare, and each declared default that differs from the default its
+// getter gave, one sentence each naming the controller ("controller
+// 'diffusion' reads parameter 'gain', which it does not declare; it declares:
+// alpha, delta, velocity"). Empty when it declares none or a "*".
+std::vector<std::string> UndeclaredParamReads(const PluginInfo& controller, const Params& params);
 
 // Kind-independent view of all registered plugins (for `colony query`).
 const std::vector<const PluginInfo*>& AllPlugins();
@@ -133,11 +167,21 @@ class Renderer;
   static const ::colony::Registrar<BASE> COLONY_PLUGIN_CONCAT(colony_registrar_, __LINE__)( \
       ::colony::PluginInfo{KIND, __VA_ARGS__},                                              \
       []() -> std::unique_ptr<BASE> { return std::make_unique<CLASS>(); })
+#define COLONY_REGISTER_DEVICE_(BASE, KIND, CLASS, ...)                                     \
+  static const ::colony::Registrar<BASE> COLONY_PLUGIN_CONCAT(colony_registrar_, __LINE__)( \
+      ::colony::DevicePluginInfo(KIND, __VA_ARGS__),                                        \
+      []() -> std::unique_ptr<BASE> { return std::make_unique<CLASS>(); })
 
-// COLONY_REGISTER_CONTROLLER(MyController, "my_controller", "summary");
-#define COLONY_REGISTER_CONTROLLER(CLASS, LABEL, SUMMARY)                                        \
+// COLONY_REGISTER_CONTROLLER(MyController, "my_controller", "summary",
+//                            {{"param", "accepted", "default", "doc"}, ...});
+// The list declares the <params> the controller reads, as loop functions do:
+// `colony query` prints it, and a controller that declares any parameter
+// fails to load when it reads one it did not declare, or reads a declared
+// one with another default (so the list cannot drift from the code). A
+// controller that declares none is not checked.
+#define COLONY_REGISTER_CONTROLLER(CLASS, LABEL, SUMMARY, ...)                                   \
   COLONY_REGISTER_PLUGIN_(::colony::Controller, ::colony::PluginKind::kController, CLASS, LABEL, \
-                          "default", SUMMARY)
+                          "default", SUMMARY __VA_OPT__(, ) __VA_ARGS__)
 // COLONY_REGISTER_LOOP_FUNCTIONS(MyLoop, "my_loop", "summary", {{"param", "accepted", "default",
 // "doc"}});
 #define COLONY_REGISTER_LOOP_FUNCTIONS(CLASS, LABEL, SUMMARY, ...)                              \
@@ -154,11 +198,15 @@ class Renderer;
 #define COLONY_REGISTER_PHYSICS_MODEL(CLASS, LABEL, SUMMARY, COMPONENTS)                      \
   COLONY_REGISTER_PLUGIN_(::colony::PhysicsModel, ::colony::PluginKind::kPhysicsModel, CLASS, \
                           LABEL, "default", SUMMARY, {}, {}, COMPONENTS)
+// COLONY_REGISTER_SENSOR(MySystem, "my_sensor", "default", "summary",
+//     ::colony::DeviceInterface{"sensors/my_sensor/my_sensor.h", "colony::MySensor",
+//                               {"value(): ... (units)"}},
+//     MyAttributes(), {"alias"});  (actuators likewise)
 #define COLONY_REGISTER_SENSOR(CLASS, LABEL, IMPLEMENTATION, SUMMARY, ...)                     \
-  COLONY_REGISTER_PLUGIN_(::colony::SensorSystem, ::colony::PluginKind::kSensor, CLASS, LABEL, \
+  COLONY_REGISTER_DEVICE_(::colony::SensorSystem, ::colony::PluginKind::kSensor, CLASS, LABEL, \
                           IMPLEMENTATION, SUMMARY, __VA_ARGS__)
 #define COLONY_REGISTER_ACTUATOR(CLASS, LABEL, IMPLEMENTATION, SUMMARY, ...)                       \
-  COLONY_REGISTER_PLUGIN_(::colony::ActuatorSystem, ::colony::PluginKind::kActuator, CLASS, LABEL, \
+  COLONY_REGISTER_DEVICE_(::colony::ActuatorSystem, ::colony::PluginKind::kActuator, CLASS, LABEL, \
                           IMPLEMENTATION, SUMMARY, __VA_ARGS__)
 
 }  // namespace colony

@@ -167,8 +167,14 @@ void Simulation::AttachController(Robot& robot, int line) {
     context_->diagnostics.ThrowIfAny();
   }
   if (!config.params_checked) {
-    // Parameters the controller never read are typos or leftovers.
     config.params_checked = true;
+    // A controller that declares its parameters read only those, with the
+    // declared defaults: the declaration `colony query` prints is the code's.
+    const auto& info = static_cast<const Registry<Controller>::Entry*>(config.entry)->info;
+    for (const auto& problem : UndeclaredParamReads(info, config.params))
+      config.node.ElementError(problem);
+    context_->diagnostics.ThrowIfAny();
+    // Parameters the controller never read are typos or leftovers.
     for (const auto& key : config.params.Unread()) {
       std::string message = "parameter not read by controller '" + config.label + "'";
       const std::string guess = DidYouMean(key, config.params.Asked());
@@ -206,6 +212,47 @@ void Simulation::RemoveEntity(EntityHandle entity) {
   engine_of_[slot] = -1;
   space_.Remove(entity);
   space_.UpdateIndex();
+}
+
+std::string Simulation::MoveEntity(EntityHandle entity, const Pose& pose) {
+  if (busy_) return "entities are moved between ticks, not during one";
+  if (!space_.IsAlive(entity)) return "no such entity";
+  const uint32_t s = entity.index;
+  if (!space_.movable(s) || engine_of_[s] < 0) return "'" + space_.id(s) + "' is fixed";
+  Space::EntityInit init;
+  init.id = space_.id(s);
+  init.type = space_.type(s);
+  init.pose = pose;
+  init.geometry = space_.geometry(s);
+  init.flags = space_.flags(s);
+  if (std::string problem = PlaceProblemNow(init, s); !problem.empty()) return problem;
+  // The engine that takes it there: its own if that one takes its type or
+  // holds the place, else the first whose region does (as Migrate chooses).
+  const auto& models = models_[space_.type(s)];
+  int to = engine_of_[s];
+  PhysicsEngine& from = *engines_[to];
+  if (!from.takes_types() && !from.Holds(pose.position)) {
+    to = -1;
+    for (size_t e = 0; e < engines_.size() && to < 0; ++e) {
+      if (models[e] && !engines_[e]->takes_types() && engines_[e]->Holds(pose.position))
+        to = static_cast<int>(e);
+    }
+    if (to < 0) return "no physics engine's region holds that place";
+    try {
+      CheckDevicesCanMigrate(s, from, *engines_[to]);
+    } catch (const RuntimeFailure& e) {
+      return e.what();
+    }
+  }
+  from.RemoveEntity(entity);
+  from.SetOwned(s, false);
+  space_.pose(s) = pose;
+  space_.twist(s) = Twist{};
+  engines_[to]->SetOwned(s, true);
+  engines_[to]->AddEntity(entity, *models[to]);
+  engine_of_[s] = static_cast<int16_t>(to);
+  space_.UpdateIndex();
+  return "";
 }
 
 Controller* Simulation::ControllerOf(EntityHandle robot) const {

@@ -212,6 +212,14 @@ class Simulation {
   // AddEntity. To add many alike, read one and copy it.
   EntityHandle AddEntity(const std::string& xml);
   void RemoveEntity(EntityHandle entity);
+  // Puts a movable entity (a robot, a movable object) at `pose` between
+  // ticks, at rest (the live viewer's drag): its engine drops it and takes it
+  // again from there, as when it migrates, and the engine whose region holds
+  // the new place takes it if that is another. Refused, with the reason
+  // (nothing changes then), for a dead or fixed entity, a place outside the
+  // arena or overlapping a solid entity, or an engine there that cannot
+  // simulate it or its devices. Returns "" when moved.
+  std::string MoveEntity(EntityHandle entity, const Pose& pose);
 
   // Per-engine ownership of an entity (for tests and tools).
   PhysicsEngine* EngineOf(EntityHandle entity) const;
@@ -292,7 +300,9 @@ class Simulation {
   // Records problems and returns an invalid handle.
   EntityHandle Add(const EntityDesc& desc, PlacementCheck check, PlacementIndex* placed);
   // Why `init` cannot stand where it is among the entities now in the space, or "".
-  std::string PlaceProblemNow(const Space::EntityInit& init);
+  // Why `init` cannot be placed now ("" if it can); the entity in slot
+  // `self` (one being moved) is not in its own way.
+  std::string PlaceProblemNow(const Space::EntityInit& init, uint32_t self = UINT32_MAX);
   // The physics model of each engine for entity type `label` (nullptr: none).
   std::vector<PhysicsModel*>& ModelsFor(uint16_t type, const std::string& label);
   // The engines `desc` goes into (one if movable); none: records why.

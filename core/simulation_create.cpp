@@ -539,7 +539,7 @@ EntityHandle Simulation::Add(const EntityDesc& desc, PlacementCheck check, Place
   return Instantiate(typed, models.data(), engines, desc.line);
 }
 
-std::string Simulation::PlaceProblemNow(const Space::EntityInit& init) {
+std::string Simulation::PlaceProblemNow(const Space::EntityInit& init, uint32_t self) {
   if (init.geometry.shape == ShapeKind::kNone) return "";
   if (std::string outside = OutsideArenaProblem(init, space_); !outside.empty()) return outside;
   if (!(init.flags & kSolid)) return "";
@@ -552,7 +552,7 @@ std::string Simulation::PlaceProblemNow(const Space::EntityInit& init) {
   // As at load: fixed entities may touch each other.
   const bool movable = init.flags & kMovable;
   for (uint32_t s : near) {
-    if (!movable && !space_.movable(s)) continue;
+    if (s == self || (!movable && !space_.movable(s))) continue;
     if (!FootprintsOverlap(init.pose, init.geometry, space_.pose(s), space_.geometry(s))) continue;
     return "overlaps '" + space_.id(s) + "'" +
            (line_of_[s] > 0 ? " (line " + std::to_string(line_of_[s]) + ")" : "");

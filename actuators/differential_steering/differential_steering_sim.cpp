@@ -83,6 +83,10 @@ COLONY_REGISTER_ACTUATOR(
     SteeringSystem, "differential_steering", "default",
     "left and right wheel speeds (m/s), at most max_speed (beyond: a warning) and limited in "
     "acceleration",
+    DeviceInterface{"actuators/differential_steering/differential_steering.h",
+                    "colony::DifferentialSteering",
+                    {"SetLinearVelocity(left, right): each wheel's speed (m/s)",
+                     "target_left(), target_right(): the last speeds set (m/s)"}},
     (std::vector<AttributeDoc>{
         {"max_speed", "a number > 0 (m/s)", "the robot's (marXbot: 0.3)",
          "speed limit of each wheel"},

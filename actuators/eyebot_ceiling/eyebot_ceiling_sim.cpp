@@ -45,10 +45,15 @@ class EyebotCeilingSystem : public ActuatorSystem {
   InstanceStore<CeilingInstance> instances_;
 };
 
-COLONY_REGISTER_ACTUATOR(EyebotCeilingSystem, "eyebot_ceiling", "default",
-                         "the eye-bot's ceiling attachment: hold on to the ceiling once the top "
-                         "of the body touches it (rotors off), or let go",
-                         (std::vector<AttributeDoc>{}));
+COLONY_REGISTER_ACTUATOR(
+    EyebotCeilingSystem, "eyebot_ceiling", "default",
+    "the eye-bot's ceiling attachment: hold on to the ceiling once the top "
+    "of the body touches it (rotors off), or let go",
+    DeviceInterface{"actuators/eyebot_ceiling/eyebot_ceiling.h",
+                    "colony::EyebotCeilingActuator",
+                    {"Attach(): hold on once the top of the body touches the ceiling (rotors off)",
+                     "Detach(): let go", "attach_requested(): whether Attach is in force"}},
+    (std::vector<AttributeDoc>{}));
 
 }  // namespace
 }  // namespace colony

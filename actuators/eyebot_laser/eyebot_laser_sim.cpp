@@ -43,6 +43,10 @@ class LaserSystem : public ActuatorSystem {
 COLONY_REGISTER_ACTUATOR(LaserSystem, "eyebot_laser", "default",
                          "the eye-bot's red laser pointer, along the pan-tilt head's axis: on or "
                          "off; its spot is a red point in the LED medium",
+                         DeviceInterface{
+                             "actuators/eyebot_laser/eyebot_laser.h",
+                             "colony::EyebotLaserActuator",
+                             {"On(), Off(), Set(on): the laser along the head's axis", "is_on()"}},
                          (std::vector<AttributeDoc>{}));
 
 }  // namespace

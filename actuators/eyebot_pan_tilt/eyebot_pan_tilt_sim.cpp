@@ -102,11 +102,18 @@ class PanTiltSystem : public ActuatorSystem {
   InstanceStore<PanTiltInstance> instances_;
 };
 
-COLONY_REGISTER_ACTUATOR(PanTiltSystem, "eyebot_pan_tilt", "default",
-                         "the eye-bot's pan-tilt head (camera and laser): pan (rad, any value, "
-                         "wrapped) and tilt (rad, 0 straight down to pi/2 horizontal), reached at "
-                         "the unit's speeds",
-                         (std::vector<AttributeDoc>{}));
+COLONY_REGISTER_ACTUATOR(
+    PanTiltSystem, "eyebot_pan_tilt", "default",
+    "the eye-bot's pan-tilt head (camera and laser): pan (rad, any value, "
+    "wrapped) and tilt (rad, 0 straight down to pi/2 horizontal), reached at "
+    "the unit's speeds",
+    DeviceInterface{
+        "actuators/eyebot_pan_tilt/eyebot_pan_tilt.h",
+        "colony::EyebotPanTiltActuator",
+        {"SetPan(angle): any angle, wrapped, reached the shorter way round (rad)",
+         "SetTilt(angle): 0 straight down .. pi/2 horizontal (rad)",
+         "target_pan(), target_tilt(), pan(), tilt(): the targets and where the head is (rad)"}},
+    (std::vector<AttributeDoc>{}));
 
 }  // namespace
 }  // namespace colony

@@ -161,6 +161,15 @@ COLONY_REGISTER_ACTUATOR(
     EyebotPropulsionSystem, "eyebot_propulsion", "default",
     "the eye-bot's rotors through its flight computer: fly to and hold a position and heading, "
     "or fly at a velocity and turn rate (world frame), or stop the rotors",
+    DeviceInterface{
+        "actuators/eyebot_propulsion/eyebot_propulsion.h",
+        "colony::EyebotPropulsionActuator",
+        {"SetTargetPosition(x, y, z) (m, world frame), SetTargetYaw(yaw) (rad), "
+         "SetRelativePosition(forward, left, up) (m): position control",
+         "SetVelocity(vx, vy, vz) (m/s, world frame), SetYawRate(rate) (rad/s): speed control",
+         "Off(): rotors off; mode(): kOff, kPosition or kSpeed",
+         "max_speed(), max_vertical_speed() (m/s), max_yaw_rate() (rad/s), max_thrust() (N): the "
+         "limits"}},
     (std::vector<AttributeDoc>{}));
 
 }  // namespace

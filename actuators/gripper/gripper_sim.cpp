@@ -62,6 +62,10 @@ COLONY_REGISTER_ACTUATOR(
     GripperSystem, "gripper", "default",
     "the marXbot's docking turret and gripper: turn the turret, grip what is in front of the jaws, "
     "release (needs an engine that simulates gripping: dynamics2d)",
+    DeviceInterface{"actuators/gripper/gripper.h",
+                    "colony::GripperActuator",
+                    {"SetTurretAngle(angle): from the robot's front, ccw (rad)",
+                     "Grip(), Release()", "turret_target() (rad), gripping()"}},
     (std::vector<AttributeDoc>{
         {"turret_speed", "a number > 0 (rad/s)", "1", "how fast the turret turns"},
         {"reach", "a number > 0 (m)", "0.02",

@@ -56,6 +56,11 @@ COLONY_REGISTER_ACTUATOR(
     HandbotArmsSystem, "handbot_arms", "default",
     "the hand-bot's two arms: extension of each, 0 folded to pi/2 straight ahead (rad, rad/s; "
     "motors: stall 2.27 N m, no-load 2.61 rad/s)",
+    DeviceInterface{
+        "actuators/handbot_arms/handbot_arms.h",
+        "colony::HandbotArmsActuator",
+        {"SetExtension(arm, angle): 0 folded .. pi/2 straight ahead (rad); arm: kLeft or kRight",
+         "SetSpeed(arm, speed): rad/s", "extension_target(arm), speed(arm)"}},
     (std::vector<AttributeDoc>{}));
 
 }  // namespace

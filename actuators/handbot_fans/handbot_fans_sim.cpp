@@ -62,6 +62,11 @@ class HandbotFansSystem : public ActuatorSystem {
 COLONY_REGISTER_ACTUATOR(
     HandbotFansSystem, "handbot_fans", "default",
     "the hand-bot's two fans: a yaw torque (N m) or a heading to hold while hanging",
+    DeviceInterface{"actuators/handbot_fans/handbot_fans.h",
+                    "colony::HandbotFansActuator",
+                    {"SetTorque(torque): a yaw torque (N m)",
+                     "HoldHeading(yaw): a heading to hold while hanging (rad)", "Stop()",
+                     "torque(), holding_heading(), heading(), max_torque() (N m)"}},
     (std::vector<AttributeDoc>{}));
 
 }  // namespace

@@ -65,6 +65,13 @@ COLONY_REGISTER_ACTUATOR(
     "the hand-bot's two grippers: rotation about the arm (rad, rad/s; motor: stall 0.265 N m, "
     "no-load 0.604 rad/s) and claws' aperture, 0 closed to pi/2 open; closing on something "
     "grasps it (25 N, holds up to 4 kg)",
+    DeviceInterface{
+        "actuators/handbot_grippers/handbot_grippers.h",
+        "colony::HandbotGrippersActuator",
+        {"SetRotation(g, angle) (rad), SetRotationSpeed(g, speed) (rad/s): about the arm; g: kLeft "
+         "or kRight",
+         "SetAperture(g, angle): the claws, 0 closed .. pi/2 open (rad); Open(g), Close(g)",
+         "rotation_target(g), rotation_speed(g), aperture_target(g)"}},
     (std::vector<AttributeDoc>{}));
 
 }  // namespace

@@ -51,6 +51,10 @@ COLONY_REGISTER_ACTUATOR(
     HandbotHeadSystem, "handbot_head", "default",
     "the hand-bot's head: rotation of both arms about the robot's forward axis (rad, rad/s; "
     "motor: stall 1.44 N m, no-load 2.85 rad/s)",
+    DeviceInterface{"actuators/handbot_head/handbot_head.h",
+                    "colony::HandbotHeadActuator",
+                    {"SetRotation(angle): both arms about the robot's forward axis (rad)",
+                     "SetSpeed(speed): rad/s", "rotation_target(), speed()"}},
     (std::vector<AttributeDoc>{}));
 
 }  // namespace

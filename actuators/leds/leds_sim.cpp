@@ -47,10 +47,15 @@ class LedSystem : public ActuatorSystem {
   InstanceStore<LedInstance> instances_;
 };
 
-COLONY_REGISTER_ACTUATOR(LedSystem, "leds", "default",
-                         "the robot's RGB LEDs (marXbot: 12 on the ring + the beacon)",
-                         (std::vector<AttributeDoc>{
-                             {"color", kColorAccepted, "black", "colour at start"}}));
+COLONY_REGISTER_ACTUATOR(
+    LedSystem, "leds", "default", "the robot's RGB LEDs (marXbot: 12 on the ring + the beacon)",
+    DeviceInterface{
+        "actuators/leds/leds.h",
+        "colony::Leds",
+        {"count(): how many LEDs",
+         "SetSingleColor(index, color), SetAllColors(color): colony::Color (r, g, b, 0..255)",
+         "colors(): the colours set"}},
+    (std::vector<AttributeDoc>{{"color", kColorAccepted, "black", "colour at start"}}));
 
 }  // namespace
 }  // namespace colony

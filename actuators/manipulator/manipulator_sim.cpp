@@ -132,6 +132,13 @@ COLONY_REGISTER_ACTUATOR(
     "the marXbot's magnetic construction manipulator: head elevation, head rotation (magnet side / "
     "IR side), head tilt, switchable magnet (needs an engine that simulates it: dynamics3d, "
     "without the tilt, kinematics2d, dynamics2d)",
+    DeviceInterface{
+        "actuators/manipulator/manipulator.h",
+        "colony::ManipulatorActuator",
+        {"SetElevation(elevation): the magnet's centre above the floor (m)",
+         "SetRotation(angle) (rad), SetMagnetSide(), SetIrSide(): the head's rotation",
+         "SetTilt(angle): the head's pitch (rad)", "EngageMagnet(), DisengageMagnet()",
+         "min_elevation(), max_elevation() (m), min_tilt(), max_tilt() (rad): the limits"}},
     (std::vector<AttributeDoc>{
         {"min_elevation", "a number >= 0 (m), below max_elevation", "the robot's (marXbot: 0.03)",
          "lowest height of the magnet's centre above the floor"},

@@ -69,6 +69,11 @@ COLONY_REGISTER_ACTUATOR(
     RabActuatorSystem, "range_and_bearing", "default",
     "range-and-bearing emitter: broadcasts a payload of data_size bytes every tick to the "
     "receivers within range",
+    DeviceInterface{"actuators/range_and_bearing/range_and_bearing.h",
+                    "colony::RangeAndBearingActuator",
+                    {"size(): the payload's size (bytes, data_size)",
+                     "SetData(bytes), SetByte(i, value): the payload sent every tick",
+                     "Clear(): stop sending; data(), sending()"}},
     (std::vector<AttributeDoc>{
         {"data_size", "an integer in [1, 65536] (bytes)", "10", "size of the payload"},
         {"range", "a number > 0 (m)", "the medium's (3)", "how far the messages reach"},

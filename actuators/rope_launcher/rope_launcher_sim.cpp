@@ -72,6 +72,11 @@ COLONY_REGISTER_ACTUATOR(
     RopeLauncherSystem, "rope_launcher", "default",
     "the hand-bot's rope launcher: fire the magnet to the ceiling, climb up or down the rope "
     "(m/s, force-limited motor), retrieve (needs an engine that simulates it: dynamics3d)",
+    DeviceInterface{
+        "actuators/rope_launcher/rope_launcher.h",
+        "colony::RopeLauncherActuator",
+        {"Launch(): fire the magnet to the ceiling", "SetClimbSpeed(speed): > 0 up (m/s)",
+         "Retrieve()", "climb_speed(), max_climb_speed() (m/s)"}},
     (std::vector<AttributeDoc>{}));
 
 }  // namespace

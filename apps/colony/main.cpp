@@ -426,6 +426,21 @@ std::string ClosestPluginNames(const std::string& word) {
   return text;
 }
 
+// A sensor's or actuator's control interface: what a controller includes,
+// the class it asks for and the members it reads or calls.
+void PrintControlInterface(const colony::PluginInfo& p) {
+  const bool sensor = p.kind == colony::PluginKind::kSensor;
+  if (!sensor && p.kind != colony::PluginKind::kActuator) return;
+  const auto& device = p.control_interface;
+  if (device.header.empty()) return;
+  std::printf("      header: #include \"%s\"\n", device.header.c_str());
+  std::printf("      class: %s, from Get%s<%s>(\"%s\")\n", device.cpp_class.c_str(),
+              sensor ? "Sensor" : "Actuator", device.cpp_class.c_str(), p.label.c_str());
+  std::printf("      a controller %s:\n", sensor ? "reads" : "calls");
+  for (const auto& member : device.members) std::printf("        %s\n", member.c_str());
+  std::printf("      XML attributes:%s\n", p.attributes.empty() ? " none" : "");
+}
+
 int Query(CLI::App& command, const std::string& filter) {
   if (!command.remaining().empty()) {
     throw UsageError("query takes at most one KIND or NAME ('" + filter + "' and '" +
@@ -458,9 +473,17 @@ int Query(CLI::App& command, const std::string& filter) {
                                                  : colony::Join(p->components).c_str());
       }
       if (name_match || kind_match) {
+        PrintControlInterface(*p);
+        if (kind == colony::PluginKind::kController) {
+          std::printf("      parameters (<params> attributes):%s\n",
+                      p->attributes.empty() ? " none declared" : "");
+        }
         for (const auto& a : p->attributes) {
+          const bool required = a.default_value.empty() && a.name != "*";
           std::printf("      %s = %s%s%s\n          %s\n", a.name.c_str(), a.accepted.c_str(),
-                      a.default_value.empty() ? " (required)" : "  [default: ",
+                      required                  ? " (required)"
+                      : a.default_value.empty() ? ""
+                                                : "  [default: ",
                       a.default_value.empty() ? "" : (a.default_value + "]").c_str(),
                       a.summary.c_str());
         }

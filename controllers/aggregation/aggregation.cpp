@@ -93,10 +93,18 @@ class Aggregation : public colony::Controller {
 
 COLONY_REGISTER_CONTROLLER(
     Aggregation, "aggregation",
-    "probabilistic aggregation: walk, stop with a probability rising with the "
-    "staying neighbours heard through range-and-bearing, leave with one "
-    "falling with them; params velocity, sense_range, join_spontaneous, "
-    "join_max, join_slope, leave_max, leave_slope, leave_ticks, "
-    "turn_probability, turn_ticks");
+    "probabilistic aggregation: walk, stop with a probability rising with the staying neighbours "
+    "heard through range-and-bearing, leave with one falling with them",
+    {{"velocity", "0..0.3 (m/s)", "0.15", "walking speed"},
+     {"sense_range", "0..100 (m)", "0.5", "staying robots heard within this range count"},
+     {"join_spontaneous", "0..1", "0.002", "p_join(0)"},
+     {"join_max", "0..1", "0.3",
+      "p_join rises by up to this; join_spontaneous + join_max must be <= 1"},
+     {"join_slope", "0..1000", "1", "how fast p_join rises with n"},
+     {"leave_max", "0..1", "0.2", "p_leave(0)"},
+     {"leave_slope", "0..1000", "3", "how fast p_leave falls with n"},
+     {"leave_ticks", "0..1e6", "50", "ticks of walking after leaving before it may stop again"},
+     {"turn_probability", "0..1", "0.01", "chance per tick of a random turn"},
+     {"turn_ticks", "1..1e6", "20", "longest random turn (ticks)"}});
 
 }  // namespace

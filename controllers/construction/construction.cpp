@@ -397,7 +397,16 @@ class Construction : public colony::Controller {
 
 COLONY_REGISTER_CONTROLLER(
     Construction, "construction",
-    "fetch cubes with the magnetic manipulator and build a bridge over a ditch (then cross "
-    "it) or a tower; params task, cubes, site, heading, goal, ditch_width, speed");
+    "fetch cubes with the magnetic manipulator and build a bridge over a ditch (then cross it) or "
+    "a tower",
+    {{"task", "bridge, tower", "", "what to build"},
+     {"cubes", "\"x,y;x,y...\" (m): 2 for a bridge, 3 for a tower", "", "where the cubes lie"},
+     {"site", "\"x,y\" (m)", "", "where to build: the ditch's edge (bridge) or the tower's place"},
+     {"heading", "a number in [-360, 360] (degrees)", "0",
+      "direction across the ditch, or the tower's approach"},
+     {"goal", "\"x,y\" (m)", "required when task is bridge",
+      "where to drive once across the bridge"},
+     {"ditch_width", "a number in [0.06, 0.2] (m)", "0.07", "width of the ditch to bridge"},
+     {"speed", "a number in [0.01, 0.3] (m/s)", "0.1", "driving speed"}});
 
 }  // namespace

@@ -59,8 +59,13 @@ class Diffusion : public colony::Controller {
   colony::DifferentialSteering* wheels_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(Diffusion, "diffusion",
-                           "wander and avoid obstacles with the proximity ring; params: alpha "
-                           "(degrees, 7.5), delta (0.1), velocity (m/s, 0.05)");
+COLONY_REGISTER_CONTROLLER(
+    Diffusion, "diffusion", "wander and avoid obstacles with the proximity ring",
+    {{"velocity", "a number in [0, 10] (m/s)", "0.05", "wheel speed, driving and turning"},
+     {"alpha", "a number in [0, 180] (degrees)", "7.5",
+      "obstacles within +-alpha of the heading do not make it turn while they are far (below "
+      "delta)"},
+     {"delta", "a number >= 0", "0.1",
+      "length of the mean proximity vector below which the way ahead counts as clear"}});
 
 }  // namespace

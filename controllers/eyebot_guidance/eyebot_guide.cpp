@@ -205,11 +205,21 @@ class EyebotGuide : public Controller {
   EyebotLaserActuator* laser_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(EyebotGuide, "eyebot_guide",
-                           "the eye-bot of the guidance experiment: climbs to the ceiling, "
-                           "searches the floor with its pan-tilt camera for a blob of "
-                           "target_color, and points its laser at it; params: target_color, "
-                           "color_tolerance, climb_speed, tilts, pan_step, area, lost_steps");
+COLONY_REGISTER_CONTROLLER(
+    EyebotGuide, "eyebot_guide",
+    "the eye-bot of the guidance experiment: climbs to the ceiling, searches the floor with its "
+    "pan-tilt camera for a blob of target_color, and points its laser at it",
+    {{"target_color", "a colour (a name or \"r,g,b\")", "0,0,255",
+      "colour of the blob to point the laser at"},
+     {"color_tolerance", "a number in [0, 255]", "60",
+      "largest difference per channel from target_color"},
+     {"climb_speed", "a number in [0.01, 10] (m/s)", "0.5", "speed up to the ceiling"},
+     {"tilts", "numbers in [0, 90] separated by commas (degrees)", "25,50,75",
+      "the head's tilts while searching"},
+     {"pan_step", "a number in [1, 360] (degrees)", "60", "pan between two search views"},
+     {"area", "\"x0,y0,x1,y1\" (m), x0 < x1, y0 < y1", "-2,-2,2,2", "where to search"},
+     {"lost_steps", "a whole number >= 0", "20",
+      "control steps a lost blob is kept before searching again"}});
 
 }  // namespace
 }  // namespace colony

@@ -49,8 +49,11 @@ class EyebotWaypoints : public Controller {
 };
 
 COLONY_REGISTER_CONTROLLER(EyebotWaypoints, "eyebot_waypoints",
-                           "an eye-bot flying from one random waypoint to the next; params: area "
-                           "(x0,y0,z0,x1,y1,z1), reached (m)");
+                           "an eye-bot flying from one random waypoint to the next",
+                           {{"area", "\"x0,y0,z0,x1,y1,z1\" (m), x0 < x1, y0 < y1, z0 < z1",
+                             "-2,-2,1,2,2,2", "the box the waypoints are drawn in"},
+                            {"reached", "a number in [0.001, 100] (m)", "0.1",
+                             "a waypoint this close is reached"}});
 
 }  // namespace
 }  // namespace colony

@@ -106,11 +106,18 @@ class FootbotFollowSpot : public Controller {
   DifferentialSteering* wheels_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(FootbotFollowSpot, "footbot_follow_spot",
-                           "the foot-bot of the guidance experiment: wanders until its "
-                           "omnidirectional camera sees a laser spot, then drives to it; params: "
-                           "velocity, spot_color, color_tolerance, stop_distance, avoid_distance, "
-                           "memory_steps");
+COLONY_REGISTER_CONTROLLER(
+    FootbotFollowSpot, "footbot_follow_spot",
+    "the foot-bot of the guidance experiment: wanders until its omnidirectional camera sees a "
+    "laser spot, then drives to it",
+    {{"velocity", "a number in [0, 10] (m/s)", "0.2", "wheel speed"},
+     {"spot_color", "a colour (a name or \"r,g,b\")", "255,0,0", "colour of the laser spot"},
+     {"color_tolerance", "a number in [0, 255]", "60",
+      "largest difference per channel from spot_color"},
+     {"stop_distance", "a number in [0, 100] (m)", "0.3", "stops this far from the spot"},
+     {"avoid_distance", "a number in [0, 1]", "0.3", "proximity reading above which it turns away"},
+     {"memory_steps", "a whole number >= 0", "30",
+      "control steps it drives on towards a lost spot"}});
 
 }  // namespace
 }  // namespace colony

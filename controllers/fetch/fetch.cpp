@@ -109,9 +109,12 @@ class Fetch : public colony::Controller {
   colony::GripperActuator* gripper_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(
-    Fetch, "fetch",
-    "drive to an object, grip it, drag it to a place, release it; params object=\"x,y\", "
-    "place=\"x,y\", speed (m/s, 0.1), object_radius (m, 0.05)");
+COLONY_REGISTER_CONTROLLER(Fetch, "fetch",
+                           "drive to an object, grip it, drag it to a place, release it",
+                           {{"object", "\"x,y\" (m)", "", "where the object lies"},
+                            {"place", "\"x,y\" (m)", "", "where to drag it"},
+                            {"speed", "a number in [0.01, 0.3] (m/s)", "0.1", "driving speed"},
+                            {"object_radius", "a number in [0.001, 1] (m)", "0.05",
+                             "the object's radius, to stop in front of it"}});
 
 }  // namespace

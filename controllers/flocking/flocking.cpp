@@ -105,10 +105,16 @@ class Flocking : public colony::Controller {
   colony::DifferentialSteering* wheels_ = nullptr;
 };
 
-COLONY_REGISTER_CONTROLLER(
-    Flocking, "flocking",
-    "align with and keep near the neighbours heard through range-and-bearing "
-    "(each sends its heading); params velocity (m/s, 0.1), target_distance "
-    "(m, 0.4), gain (1), max_repulsion (4), alignment (1), avoidance (5)");
+COLONY_REGISTER_CONTROLLER(Flocking, "flocking",
+                           "align with and keep near the neighbours heard through "
+                           "range-and-bearing (each sends its heading)",
+                           {{"velocity", "0..0.3 (m/s)", "0.1", "forward speed"},
+                            {"target_distance", "0.01..100 (m)", "0.4",
+                             "T, where cohesion changes sign"},
+                            {"gain", ">= 0", "1", "weight of the cohesion / separation term"},
+                            {"max_repulsion", ">= 0", "4",
+                             "floor of f (so one very close neighbour cannot swamp the rest)"},
+                            {"alignment", ">= 0", "1", "weight of the alignment term"},
+                            {"avoidance", ">= 0", "5", "weight of the obstacle term"}});
 
 }  // namespace

@@ -69,10 +69,14 @@ void ForagingController::ControlStep() {
   swarm::SteerTowards(direction.Angle(), velocity_, *wheels_);
 }
 
-COLONY_REGISTER_CONTROLLER(ForagingController, "foraging",
-                           "carry items from a dark source area to the nest under the light "
-                           "(items and deliveries by the foraging loop functions); params velocity "
-                           "(m/s, 0.15), source_grey (0.25), avoidance (5), turn_probability "
-                           "(0.05), turn_ticks (20)");
+COLONY_REGISTER_CONTROLLER(
+    ForagingController, "foraging",
+    "carry items from a dark source area to the nest under the light (items and deliveries by the "
+    "foraging loop functions)",
+    {{"velocity", "0..0.3 (m/s)", "0.15", "speed"},
+     {"source_grey", "0..1", "0.25", "ground readings below this are the source"},
+     {"avoidance", ">= 0", "5", "weight of the obstacle term"},
+     {"turn_probability", "0..1", "0.05", "chance per tick of a random turn while over the source"},
+     {"turn_ticks", "1..1e6", "20", "longest random turn (ticks)"}});
 
 }  // namespace colony::foraging

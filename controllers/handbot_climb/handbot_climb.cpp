@@ -323,4 +323,9 @@ class HandbotClimb : public colony::Controller {
 
 COLONY_REGISTER_CONTROLLER(HandbotClimb, "handbot_climb",
                            "hand-bot: climb a shelf's board with the rope and both grippers, take "
-                           "the book, come back down");
+                           "the book, come back down",
+                           {{"book_height", "a number in [0.1, 10] (m)", "0.8",
+                             "height of the board the book lies on"},
+                            {"max_height", "a number in [0.1, 10] (m)", "1.6", "highest it climbs"},
+                            {"turn_speed", "a number in [0.01, 0.6] (rad/s)", "0.4",
+                             "how fast it turns to face the shelf"}});

@@ -90,4 +90,8 @@ class HandbotRope : public colony::Controller {
 
 COLONY_REGISTER_CONTROLLER(
     HandbotRope, "handbot_rope",
-    "hand-bot: launch the rope, climb it and come back down, again and again");
+    "hand-bot: launch the rope, climb it and come back down, again and again",
+    {{"height", "a number in [0.01, 10] (m)", "1", "how far it climbs"},
+     {"speed", "a number in [0.001, 1] (m/s)", "0.1", "how fast it climbs and goes down"},
+     {"pause", "a number in [0, 1000] (s)", "2",
+      "how long it holds at the top and stands at the bottom"}});

@@ -995,7 +995,56 @@ class PocketBuilder : public Controller {
 }  // namespace
 }  // namespace colony::pocket_builder
 
-COLONY_REGISTER_CONTROLLER(colony::pocket_builder::PocketBuilder, "pocket_builder",
-                           "seed 004's barrier construction with pockets: explore, goto-reservoir, "
-                           "approach, pick-up, goto-structure, deploy, drop (params in "
-                           "controllers/pocket_builder/README.md)");
+COLONY_REGISTER_CONTROLLER(
+    colony::pocket_builder::PocketBuilder, "pocket_builder",
+    "seed 004's barrier construction with pockets: explore, goto-reservoir, approach, pick-up, "
+    "goto-structure, deploy, drop",
+    {{"speed", "0.01..0.3 (m/s)", "0.1", "cruising speed (the seed: about 10 cm/s)"},
+     {"slow_speed", "0.01..0.3 (m/s)", "0.05", "final approach, pick-up, towards the boundary"},
+     {"tick", "0.001..1 (s)", "0.1", "the control period (the experiment's 1 / ticks_per_second)"},
+     {"template_spacing", "0.05..5 (m)", "0.333",
+      "distance between adjacent template landmarks, d_t1"},
+     {"reservoir_spacing", "0.05..5 (m)", "0.24",
+      "distance between a reservoir's two landmarks, d_t2"},
+     {"spacing_tolerance", "0..1 (m)", "0.04", "how far a seen pair may be from these spacings"},
+     {"path_distance", "0.1..2 (m)", "0.35", "distance of the deploy path from the boundary line"},
+     {"end_margin", "-1..1 (m)", "0",
+      "turn round this far before (> 0) or past (< 0) the last landmark"},
+     {"k1", "0..1", "0.02", "eq. 3.3 scaling factor (a probability per control step)"},
+     {"alpha", "0..100", "0.5", "eq. 3.3 constant"},
+     {"delta1", "0..2 (m)", "0.08", "eq. 3.3 influential range"},
+     {"height_reading", "0..1", "0.15",
+      "front proximity reading (0.01 m / d) above which the structure ahead counts as higher than "
+      "the ring"},
+     {"max_inhibitions", "whole number >= 0", "3", "height inhibitions allowed per pocket"},
+     {"k2", "0..1", "0.2", "eq. 3.5 scaling factor (per control step)"},
+     {"sigma", "0.0001..1 (m)", "0.03", "eq. 3.5 constant"},
+     {"delta2", "0..2 (m)", "0.06", "eq. 3.4-3.5 influential range"},
+     {"manipulator_distance", "0..0.5 (m)", "0.12",
+      "d_m of eq. 3.4: robot's centre to the carried pocket's"},
+     {"force_distance", "0..1 (m)", "0.17",
+      "forced drop this close to the boundary line (robot's centre)"},
+     {"approach_distance", "0.15..1 (m)", "0.3", "the point in front of the reservoir's pocket"},
+     {"pickup_distance", "0.05..1 (m)", "0.2", "pick-up starts with the pocket this close"},
+     {"carry_elevation", "0.03..0.2 (m)", "0.1", "head's height while carrying"},
+     {"goto_timeout", ">= 1 (s)", "60", "give up an odometry leg and explore"},
+     {"lost_time", ">= 0 (s)", "2", "how long deploy carries on without the template in view"},
+     {"turn_probability", "0..1", "0.05", "explore: probability per step of a random turn"},
+     {"turn_ticks", ">= 1", "20", "explore: longest random turn (steps)"},
+     {"swarm", "true, false", "false",
+      "the inter-robot rules below (3.4.4); needs range_and_bearing"},
+     {"lane_gap", "0.17..1 (m)", "0.25",
+      "the auxiliary path lies this much farther from the boundary than the main path"},
+     {"tau", "0..1", "0.005",
+      "tau_lambda of eq. 3.6: probability per step that the path decision lambda flips"},
+     {"follow_distance", "0.17..2 (m)", "0.35",
+      "stop behind a robot this close ahead on the same path"},
+     {"side_length", "0..2 (m)", "0.3",
+      "the left side is free when no robot is within this distance along the boundary on the other "
+      "path's side"},
+     {"wait_distance", "0.3..3 (m)", "0.6",
+      "reservoir: only robots this close to the pocket count; the waiting robot backs away to this "
+      "distance"},
+     {"wait_time", ">= 0 (s)", "2", "reservoir: the shortest wait"},
+     {"max_wait", ">= 1 (s)", "20",
+      "a robot stopped by the swarm rules this long ignores them for a quarter of it"}});

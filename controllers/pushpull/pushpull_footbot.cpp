@@ -346,6 +346,27 @@ class PushPullFootbot : public Controller {
 }  // namespace
 }  // namespace colony::pushpull
 
-COLONY_REGISTER_CONTROLLER(colony::pushpull::PushPullFootbot, "pushpull_footbot",
-                           "Push-Pull foot-bot (seed 003, 6.2.1): finds a hand-bot's slot with its "
-                           "camera, connects with its gripper, pushes or pulls it");
+COLONY_REGISTER_CONTROLLER(
+    colony::pushpull::PushPullFootbot, "pushpull_footbot",
+    "Push-Pull foot-bot (seed 003, 6.2.1): finds a hand-bot's slot with its "
+    "camera, connects with its gripper, pushes or pulls it",
+    {{"speed", "a number in [0.01, 0.3] (m/s)", "0.1", "speed while searching"},
+     {"move_speed", "a number in [0.01, 0.3] (m/s)", "0.05", "speed while pushing or pulling"},
+     {"turn_probability", "a number in [0, 1]", "0.05",
+      "chance per tick of a random turn while searching"},
+     {"turn_ticks", "a whole number in [1, 100000]", "20", "longest random turn (ticks)"},
+     {"avoidance", "a number in [0, 1000]", "3", "weight of the obstacle term"},
+     {"dock_distance", "a number in [0.1, 0.5] (m)", "0.18",
+      "distance to the slot at which it grips"},
+     {"staging", "a number in [0.02, 1] (m)", "0.15",
+      "how far out from the slot it lines up first"},
+     {"approach_timeout", "a number in [0.1, 1e6] (s)", "20",
+      "gives up an approach after this long"},
+     {"connect_timeout", "a number in [0.1, 1e6] (s)", "15", "gives up connecting after this long"},
+     {"move_time", "a number in [0.1, 1e6] (s)", "10", "how long it pushes or pulls"},
+     {"pause_timeout", "a number in [0.1, 1e6] (s)", "5",
+      "longest pause while the hand-bot tries to lift"},
+     {"pause_radius", "a number in [0, 100] (m)", "1", "pauses when a hand-bot is this close"},
+     {"wait_radius", "a number in [0, 100] (m)", "1.5", "waits when a hand-bot is this close"},
+     {"back_time", "a number in [0, 1e6] (s)", "2", "how long it backs off after letting go"},
+     {"ignore_time", "a number in [0, 1e6] (s)", "5", "how long it ignores the slot it left"}});

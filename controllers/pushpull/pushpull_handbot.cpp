@@ -258,4 +258,19 @@ class PushPullHandbot : public Controller {
 COLONY_REGISTER_CONTROLLER(
     colony::pushpull::PushPullHandbot, "pushpull_handbot",
     "Push-Pull hand-bot (seed 003, 6.2.2): tries to lift the object with its "
-    "rope; after a failure shows a push or pull slot to be moved");
+    "rope; after a failure shows a push or pull slot to be moved",
+    {{"try_probability", "a number in [0, 10]", "0.02", "chance per second of trying to lift"},
+     {"lift_speed", "a number in [0.001, 1] (m/s)", "0.02", "climbing speed while lifting"},
+     {"lift_height", "a number in [0.001, 10] (m)", "0.1", "how high a lift must raise the object"},
+     {"max_traction", "a number >= 0 (N)", "40", "traction above which the lift fails (too heavy)"},
+     {"min_traction", "a number >= 0 (N)", "5", "traction below which the rope is slack"},
+     {"max_tilt", "a number in [0.001, 1.5] (rad)", "0.1", "tilt above which the lift fails"},
+     {"retry_time", "a number >= 0 (s)", "20", "wait before trying again"},
+     {"see", "a number in [0.001, 1]", "0.35",
+      "gripper proximity reading at which the object is seen"},
+     {"reach", "a number in [0.001, 1], at most see", "0.2",
+      "gripper proximity reading at which it reaches for the object"},
+     {"press", "a number in [0.001, 1], above see", "0.9",
+      "gripper proximity reading at which the claws close"},
+     {"align_tolerance", "a number in [0.001, pi] (rad)", "0.15",
+      "heading error accepted when aligning"}});

@@ -485,10 +485,14 @@ class LuaController : public Controller {
   std::string start_error_;
 };
 
-COLONY_REGISTER_CONTROLLER(LuaController, "lua_controller",
-                           "runs a Lua script with ARGoS's robot API, one Lua state per robot; "
-                           "params: script (the .lua file, beside the experiment file), on_error "
-                           "(stop or continue), any others reach the script as robot.params");
+COLONY_REGISTER_CONTROLLER(
+    LuaController, "lua_controller",
+    "runs a Lua script with ARGoS's robot API, one Lua state per robot",
+    {{"script", "a .lua file (relative: beside the experiment file)", "",
+      "the script, with ARGoS's init, step, reset and destroy functions"},
+     {"on_error", "stop, continue", "stop",
+      "a Lua error ends the run (stop), or is logged and stops that robot's script (continue)"},
+     {"*", "any other name", "", "reaches the script as robot.params"}});
 
 }  // namespace
 }  // namespace colony::lua

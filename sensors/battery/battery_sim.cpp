@@ -112,6 +112,12 @@ COLONY_REGISTER_SENSOR(
     BatterySystem, "battery", "default",
     "battery level in [0, 1], falling with time (idle_power) and with wheel travel "
     "(motion_energy); an empty battery stops the robot",
+    DeviceInterface{
+        "sensors/battery/battery.h",
+        "colony::Battery",
+        {"level(): charge left, 0 (empty) .. 1 (full), noise included",
+         "remaining_energy(): level() x capacity() (J)", "capacity(): energy of a full battery (J)",
+         "empty(): the true charge is 0 (the wheels stop)"}},
     BatteryAttributes());
 
 }  // namespace

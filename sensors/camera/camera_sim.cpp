@@ -146,6 +146,12 @@ COLONY_REGISTER_SENSOR(
     CameraSystem, "camera", "default",
     "perspective colour camera: an RGB image of width x height pixels drawn off-screen "
     "by the image renderer (OSMesa) from its pose on the robot",
+    DeviceInterface{
+        "sensors/camera/camera.h",
+        "colony::CameraSensor",
+        {"width(), height(): the image's size (pixels)",
+         "rgb(): the image, 3 bytes per pixel (red, green, blue, 0..255), rows from the top",
+         "At(x, y): the colony::Color of column x (from the left), row y (from the top)"}},
     CameraAttributes());
 
 }  // namespace

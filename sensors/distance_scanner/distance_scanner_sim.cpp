@@ -393,6 +393,15 @@ COLONY_REGISTER_SENSOR(
     DistanceScannerSystem, "distance_scanner", "default",
     "rotating scanner of 4 Sharp IR sensors (2 short, 2 long range): (angle, distance) "
     "readings with each sensor's dead zone and folded response curve",
+    DeviceInterface{
+        "sensors/distance_scanner/distance_scanner.h",
+        "colony::DistanceScanner",
+        {"readings(): this tick's readings, each: angle (rad, ccw from the front), distance (m, or "
+         "kNoReading = -1), sensor (0..3), type (kShortRange, kLongRange)",
+         "scan(type): the last complete scan of a sensor type, one distance (m) per bin of "
+         "bin_width() rad",
+         "bin_width(): angle between two bins (rad)", "scans_completed(): complete scans so far",
+         "rotor_angle(): the rotor's angle from the front, [0, 2 pi) (rad)"}},
     ScannerAttributes(), {"footbot_distance_scanner"});
 
 }  // namespace

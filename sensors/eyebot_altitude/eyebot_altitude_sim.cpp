@@ -99,10 +99,16 @@ std::vector<AttributeDoc> AltitudeAttributes() {
   return a;
 }
 
-COLONY_REGISTER_SENSOR(EyebotAltitudeSystem, "eyebot_altitude", "default",
-                       "distance (m) from the bottom of the body down to the floor or to what is "
-                       "under the robot's axis (a rangefinder looking down)",
-                       AltitudeAttributes());
+COLONY_REGISTER_SENSOR(
+    EyebotAltitudeSystem, "eyebot_altitude", "default",
+    "distance (m) from the bottom of the body down to the floor or to what is "
+    "under the robot's axis (a rangefinder looking down)",
+    DeviceInterface{
+        "sensors/eyebot_altitude/eyebot_altitude.h",
+        "colony::EyebotAltitudeSensor",
+        {"altitude(): from the feet down to the floor or what is below (m); +infinity out of range",
+         "range(): farthest it measures (m)"}},
+    AltitudeAttributes());
 
 }  // namespace
 }  // namespace colony

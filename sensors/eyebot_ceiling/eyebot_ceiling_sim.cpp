@@ -63,6 +63,11 @@ class EyebotCeilingSensorSystem : public SensorSystem {
 COLONY_REGISTER_SENSOR(EyebotCeilingSensorSystem, "eyebot_ceiling", "default",
                        "the eye-bot's ceiling attachment: whether it holds, and the distance "
                        "from the top of the body to the ceiling (m)",
+                       DeviceInterface{"sensors/eyebot_ceiling/eyebot_ceiling.h",
+                                       "colony::EyebotCeilingSensor",
+                                       {"attached(): the robot holds to the ceiling (rotors off)",
+                                        "ceiling_distance(): from the top of the body to the "
+                                        "ceiling (m); +infinity with no ceiling"}},
                        (std::vector<AttributeDoc>{}));
 
 }  // namespace

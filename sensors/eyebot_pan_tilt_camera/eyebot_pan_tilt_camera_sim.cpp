@@ -173,6 +173,12 @@ COLONY_REGISTER_SENSOR(
     "the eye-bot's pan-tilt camera: coloured blobs (other robots' lit LEDs, landmarks, laser "
     "spots, its own laser's spot) in its field of view, each with its colour, distance, bearing "
     "and elevation in the robot's frame",
+    DeviceInterface{"sensors/eyebot_pan_tilt_camera/eyebot_pan_tilt_camera.h",
+                    "colony::EyebotPanTiltCamera",
+                    {"blobs(): the blobs seen this tick, each: red, green, blue (0..255), distance "
+                     "(m, from the head), bearing (rad, ccw from the front), elevation (rad, above "
+                     "the horizontal plane)",
+                     "pan(), tilt(): the head's pan and tilt when the blobs were taken (rad)"}},
     CameraAttributes());
 
 }  // namespace

@@ -41,8 +41,13 @@ class GripperSensorSystem : public SensorSystem {
 };
 
 COLONY_REGISTER_SENSOR(GripperSensorSystem, "gripper", "default",
-                       "the turret angle (rad) and whether the gripper holds something", {},
-                       {"footbot_turret_encoder"});
+                       "the turret angle (rad) and whether the gripper holds something",
+                       DeviceInterface{
+                           "sensors/gripper/gripper.h",
+                           "colony::GripperSensor",
+                           {"turret_angle(): the turret from the robot's front, ccw (rad)",
+                            "holding(): the gripper holds something"}},
+                       {}, {"footbot_turret_encoder"});
 
 }  // namespace
 }  // namespace colony

@@ -159,6 +159,10 @@ COLONY_REGISTER_SENSOR(
     GroundSystem, "ground", "default",
     "downward sensors reading the floor's grey level (0 black .. 1 white) under each sensor; "
     "0 over a ditch unless something fills it up to the floor",
+    DeviceInterface{"sensors/ground/ground.h",
+                    "colony::GroundSensor",
+                    {"readings(): one per sensor, each: value (grey level, 0 black .. 1 white; 0 "
+                     "over a hole), angle (rad, the sensor's direction from the centre)"}},
     NoiseModel::Attributes(), {"footbot_base_ground", "footbot_motor_ground"});
 
 }  // namespace

@@ -61,6 +61,12 @@ class HandbotArmsSensorSystem : public SensorSystem {
 COLONY_REGISTER_SENSOR(
     HandbotArmsSensorSystem, "handbot_arms", "default",
     "the hand-bot's arms: extension of each (rad), speed (rad/s), motor torque (N m), stalled",
+    DeviceInterface{
+        "sensors/handbot_arms/handbot_arms.h",
+        "colony::HandbotArmsSensor",
+        {"extension(arm): 0 folded .. pi/2 straight ahead (rad); arm: kLeft or kRight",
+         "velocity(arm): rad/s", "torque(arm): the motor's, averaged over the tick (N m)",
+         "stalled(arm): about its stall torque, not moving to its target"}},
     NoiseModel::Attributes(false));
 
 }  // namespace

@@ -163,18 +163,28 @@ std::vector<AttributeDoc> Attributes() {
 using Default = GripperIrSystem<12>;
 using Simple = GripperIrSystem<3>;
 using Full = GripperIrSystem<24>;
+
+// What a controller sees of this sensor, whichever implementation.
+DeviceInterface ControlInterface() {
+  return {"sensors/handbot_gripper_proximity/handbot_gripper_proximity.h",
+          "colony::HandbotGripperProximitySensor",
+          {"readings(gripper): gripper kLeft or kRight, one reading per sensor, each: value (0 "
+           "nothing .. 1 within 1 cm), around (rad, about the gripper's axis), tilt (rad, from the "
+           "gripper's axis)"}};
+}
+
 COLONY_REGISTER_SENSOR(
     Default, "handbot_gripper_proximity", "default",
     "the hand-bot's gripper IR sensors: 12 per gripper in a cone around its axis, 12 cm",
-    Attributes());
+    ControlInterface(), Attributes());
 COLONY_REGISTER_SENSOR(
     Simple, "handbot_gripper_proximity", "simple",
     "the hand-bot's gripper IR sensors: 3 per gripper (on the axis and 30 degrees either side)",
-    Attributes());
+    ControlInterface(), Attributes());
 COLONY_REGISTER_SENSOR(
     Full, "handbot_gripper_proximity", "full",
     "the hand-bot's gripper IR sensors: 24 per gripper on two cones (20 and 50 degrees)",
-    Attributes());
+    ControlInterface(), Attributes());
 
 }  // namespace
 }  // namespace colony

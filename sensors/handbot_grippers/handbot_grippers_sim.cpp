@@ -65,6 +65,13 @@ COLONY_REGISTER_SENSOR(
     HandbotGrippersSensorSystem, "handbot_grippers", "default",
     "the hand-bot's grippers: rotation of each about its arm (rad), its motor torque (N m), "
     "stalled, claws' aperture (rad), holding",
+    DeviceInterface{
+        "sensors/handbot_grippers/handbot_grippers.h",
+        "colony::HandbotGrippersSensor",
+        {"rotation(g): about the arm, (-pi, pi] (rad); g: kLeft or kRight",
+         "torque(g): the rotation motor's (N m)", "stalled(g): the rotation motor is stalled",
+         "aperture(g): the claws, 0 closed .. pi/2 open (rad)",
+         "holding(g): the claws grasp something"}},
     NoiseModel::Attributes(false));
 
 }  // namespace

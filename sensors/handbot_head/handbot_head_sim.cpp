@@ -56,6 +56,11 @@ class HandbotHeadSensorSystem : public SensorSystem {
 COLONY_REGISTER_SENSOR(
     HandbotHeadSensorSystem, "handbot_head", "default",
     "the hand-bot's head: rotation (rad), speed (rad/s), motor torque (N m), stalled",
+    DeviceInterface{"sensors/handbot_head/handbot_head.h",
+                    "colony::HandbotHeadSensor",
+                    {"rotation(): (-pi, pi] (rad)", "velocity(): rad/s",
+                     "torque(): the motor's, averaged over the tick (N m)",
+                     "stalled(): about its stall torque, not moving to its target"}},
     NoiseModel::Attributes(false));
 
 }  // namespace

@@ -72,6 +72,11 @@ class ImuSystem : public SensorSystem {
 COLONY_REGISTER_SENSOR(
     ImuSystem, "imu", "default",
     "gyroscope (rad/s) and accelerometer (m/s^2, gravity included) in the robot's frame",
+    DeviceInterface{
+        "sensors/imu/imu.h",
+        "colony::Imu",
+        {"angular_velocity(): about x, y, z of the robot's frame (rad/s; turning left is +z)",
+         "acceleration(): proper acceleration along x, y, z (m/s^2; at rest +9.81 on z)"}},
     (std::vector<AttributeDoc>{
         {"gyro_noise_std_dev", "a number >= 0 (rad/s)", "0",
          "gaussian noise on each gyroscope axis"},

@@ -238,6 +238,10 @@ COLONY_REGISTER_SENSOR(
     LightSystem, "light", "default",
     "ring of light sensors: per sensor, the sum over visible lights of "
     "intensity / (1 + d^2) x cos(angle to the light) within +-90 degrees, in [0, 1]",
+    DeviceInterface{"sensors/light/light.h",
+                    "colony::LightSensor",
+                    {"readings(): one per sensor in ring order, each: value (0 no light; larger: "
+                     "more light), angle (rad, ccw from the front)"}},
     LightAttributes(), {"footbot_light"});
 
 }  // namespace

@@ -256,6 +256,15 @@ COLONY_REGISTER_SENSOR(
     "the construction manipulator's head elevation (m) and rotation (rad), its magnet "
     "(0..1, engaged), whether it holds something, and the 6 IR proximity sensors of the "
     "head's IR side (0.01/d, 0 beyond range)",
+    DeviceInterface{"sensors/manipulator/manipulator.h",
+                    "colony::ManipulatorSensor",
+                    {"elevation(): the magnet's centre above the floor (m)",
+                     "rotation(): the head, ccw from magnet side to the front, (-pi, pi] (rad)",
+                     "tilt(): the head's pitch, 0 upright, > 0 magnet face down (rad)",
+                     "magnet(): 0 disengaged .. 1 engaged; magnet_engaged(): fully engaged",
+                     "holding(): the magnet holds an object",
+                     "readings(): the 6 IR sensors of the IR side, right to left, each: value (0 "
+                     "nothing .. 1 touching), angle (rad, from the IR side's facing direction)"}},
     ManipulatorSensorAttributes());
 
 }  // namespace

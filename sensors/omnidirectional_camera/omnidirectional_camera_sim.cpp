@@ -147,6 +147,11 @@ COLONY_REGISTER_SENSOR(
     "coloured blobs around the robot (other entities' lit LEDs, landmarks, visible pockets, laser "
     "spots), each with its "
     "colour, distance and bearing in the robot's frame",
+    DeviceInterface{
+        "sensors/omnidirectional_camera/omnidirectional_camera.h",
+        "colony::OmnidirectionalCamera",
+        {"blobs(): the blobs seen this tick, each: red, green, blue (0..255), distance (m, "
+         "horizontal, from the camera's axis), bearing (rad, ccw from the front, (-pi, pi])"}},
     CameraAttributes(), {"colored_blob_omnidirectional_camera"});
 
 }  // namespace

@@ -71,6 +71,10 @@ std::vector<AttributeDoc> PositioningAttributes() {
 COLONY_REGISTER_SENSOR(
     PositioningSystem, "positioning", "default",
     "the robot's position (m) and heading (rad) in the arena, with optional noise",
+    DeviceInterface{"sensors/positioning/positioning.h",
+                    "colony::PositioningSensor",
+                    {"x(), y(), z(): the robot's position in the arena (m)",
+                     "yaw(): heading, ccw from +x, (-pi, pi] (rad)"}},
     PositioningAttributes());
 
 }  // namespace

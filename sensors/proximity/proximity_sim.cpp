@@ -138,6 +138,11 @@ std::vector<AttributeDoc> ProximityAttributes() {
 COLONY_REGISTER_SENSOR(ProximitySystem, "proximity", "default",
                        "ring of IR proximity sensors: one reading per sensor in [0, 1], 0.01/d of "
                        "the distance d to the nearest object, 0 beyond range",
+                       DeviceInterface{
+                           "sensors/proximity/proximity.h",
+                           "colony::ProximitySensor",
+                           {"readings(): one Reading per sensor in ring order, each: value (0 "
+                            "nothing in range .. 1 touching), angle (rad, ccw from the front)"}},
                        ProximityAttributes(), {"footbot_proximity"});
 
 }  // namespace

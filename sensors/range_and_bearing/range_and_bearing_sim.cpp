@@ -192,6 +192,11 @@ COLONY_REGISTER_SENSOR(
     RabSensorSystem, "range_and_bearing", "default",
     "range-and-bearing receiver: the messages of the robots within range this tick, each "
     "with the sender's range, bearing and elevation in the robot's frame",
+    DeviceInterface{"sensors/range_and_bearing/range_and_bearing.h",
+                    "colony::RangeAndBearingSensor",
+                    {"packets(): every message received this tick, each: range (m, centre to "
+                     "centre), bearing (rad, ccw from the front), elevation (rad), data (the "
+                     "sender's bytes, valid until the next tick)"}},
     RabSensorAttributes());
 
 }  // namespace

@@ -75,6 +75,13 @@ COLONY_REGISTER_SENSOR(
     RopeTractionSystem, "rope_traction", "default",
     "the hand-bot's rope: stowed / attached / launch failed, length (m), traction (N), "
     "motor stalled (needs an engine that simulates the rope: dynamics3d)",
+    DeviceInterface{
+        "sensors/rope_traction/rope_traction.h",
+        "colony::RopeTractionSensor",
+        {"status(): kStowed, kAttached or kLaunchFailed; attached(), launch_failed()",
+         "length(): from the magnet to the launcher (m, 0 unless attached)",
+         "traction(): the rope's pull on the robot (N)",
+         "stalled(): climbing, the motor pulls its most and the rope does not shorten"}},
     NoiseModel::Attributes());
 
 }  // namespace

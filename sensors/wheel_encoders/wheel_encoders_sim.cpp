@@ -84,6 +84,11 @@ std::vector<AttributeDoc> EncoderAttributes() {
 
 COLONY_REGISTER_SENSOR(EncoderSystem, "wheel_encoders", "default",
                        "distance each wheel moved during the last tick (m), with slip and noise",
+                       DeviceInterface{"sensors/wheel_encoders/wheel_encoders.h",
+                                       "colony::WheelEncoders",
+                                       {"distance_left(), distance_right(): how far each wheel "
+                                        "moved during the last tick (m, < 0 backwards)",
+                                        "wheel_base(): between the wheels (m)"}},
                        EncoderAttributes(), {"differential_steering"});
 
 }  // namespace

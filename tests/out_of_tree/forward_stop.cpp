@@ -32,4 +32,5 @@ class ForwardStop : public colony::Controller {
 };
 
 COLONY_REGISTER_CONTROLLER(ForwardStop, "forward_stop",
-                           "drive forwards, stop in front of an obstacle");
+                           "drive forwards, stop in front of an obstacle",
+                           {{"speed", "a number in [0, 0.3] (m/s)", "0.1", "forward speed"}});

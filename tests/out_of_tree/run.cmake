@@ -28,4 +28,41 @@ run(${prefix}/bin/colony query controller)
 if(NOT last_output MATCHES "diffusion")
   message(FATAL_ERROR "installed colony does not list the installed diffusion controller:\n${last_output}")
 endif()
-message(STATUS "out-of-tree controller built and ran against ${prefix}")
+# Its declared parameters, and a device's control interface, as the installed
+# colony prints them.
+run(${CMAKE_COMMAND} -E env COLONY_PLUGIN_PATH=${work}/build ${prefix}/bin/colony query forward_stop)
+if(NOT last_output MATCHES "speed = a number in \\[0, 0.3\\] \\(m/s\\)  \\[default: 0.1\\]")
+  message(FATAL_ERROR "colony query forward_stop does not list its parameter:\n${last_output}")
+endif()
+run(${prefix}/bin/colony query proximity)
+if(NOT last_output MATCHES "header: #include \"sensors/proximity/proximity.h\"")
+  message(FATAL_ERROR "colony query proximity does not name its header:\n${last_output}")
+endif()
+if(NOT EXISTS ${prefix}/include/colony/sensors/proximity/proximity.h)
+  message(FATAL_ERROR "the header colony query names is not installed")
+endif()
+# The docs: README.md, docs/ and each device's and plugin's README, in the
+# source tree's layout (share/doc/colony).
+set(doc ${prefix}/share/doc/colony)
+file(GLOB_RECURSE readmes RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/sensors/*/README.md
+     ${SOURCE_DIR}/actuators/*/README.md ${SOURCE_DIR}/engines/*/README.md
+     ${SOURCE_DIR}/entities/*/README.md ${SOURCE_DIR}/media/*/README.md
+     ${SOURCE_DIR}/controllers/*/README.md ${SOURCE_DIR}/loop_functions/*/README.md
+     ${SOURCE_DIR}/render/*/README.md ${SOURCE_DIR}/scripting/*/README.md)
+file(GLOB docs RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/docs/*.md ${SOURCE_DIR}/docs/*.png)
+list(LENGTH readmes count)
+if(count LESS 40)
+  message(FATAL_ERROR "only ${count} plugin READMEs found in ${SOURCE_DIR}")
+endif()
+foreach(file README.md ${docs} ${readmes})
+  if(NOT EXISTS ${doc}/${file})
+    message(FATAL_ERROR "cmake --install did not install ${file} as ${doc}/${file}")
+  endif()
+endforeach()
+file(GLOB_RECURSE installed_docs ${doc}/*)
+foreach(file ${installed_docs})
+  if(NOT file MATCHES "\\.(md|png)$")
+    message(FATAL_ERROR "${file} is installed with the docs but is not one")
+  endif()
+endforeach()
+message(STATUS "out-of-tree controller built and ran against ${prefix}; docs in ${doc}")

@@ -1,7 +1,9 @@
 #include "apps/colony/viewer/viewer.h"
 
+#include <algorithm>
 #include <bit>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <cstring>
@@ -9,17 +11,33 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 
+#include "actuators/differential_steering/differential_steering.h"
+#include "actuators/gripper/gripper.h"
+#include "actuators/leds/leds.h"
+#include "actuators/range_and_bearing/range_and_bearing.h"
 #include "apps/colony/viewer/ws_hub.h"
 #include "core/crash_report.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/simulation.h"
+#include "sensors/battery/battery.h"
+#include "sensors/distance_scanner/distance_scanner.h"
+#include "sensors/gripper/gripper.h"
+#include "sensors/ground/ground.h"
+#include "sensors/imu/imu.h"
+#include "sensors/light/light.h"
+#include "sensors/positioning/positioning.h"
+#include "sensors/proximity/proximity.h"
+#include "sensors/range_and_bearing/range_and_bearing.h"
+#include "sensors/wheel_encoders/wheel_encoders.h"
 
 #ifndef COLONY_INSTALL_VIEWER_DIR
 #define COLONY_INSTALL_VIEWER_DIR "/usr/local/share/colony/viewer"
@@ -31,6 +49,7 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 using viewer::HttpReply;
+using viewer::HttpRequest;
 using viewer::WebSocketHub;
 using Clock = std::chrono::steady_clock;
 
@@ -92,15 +111,96 @@ HttpReply ServeFile(const std::string& resource, const std::string& web_dir,
   return {200, ContentType(file), body.str()};
 }
 
+// --- Access ----------------------------------------------------------------
+
+bool IsLoopback(const std::string& host) {
+  return host == "127.0.0.1" || host == "::1" || host == "localhost";
+}
+
+// 128 random bits as 32 hexadecimal digits.
+std::string RandomToken() {
+  std::random_device device;
+  std::string token;
+  for (int i = 0; i < 4; ++i) {
+    char part[9];
+    std::snprintf(part, sizeof part, "%08x", static_cast<unsigned>(device()));
+    token += part;
+  }
+  return token;
+}
+
+// The value of `key` in "a=1&key=value" or "a=1; key=value" ("" if absent).
+std::string FieldOf(const std::string& text, const std::string& key, char separator) {
+  size_t begin = 0;
+  while (begin <= text.size()) {
+    size_t end = text.find(separator, begin);
+    if (end == std::string::npos) end = text.size();
+    std::string field = text.substr(begin, end - begin);
+    field.erase(0, field.find_first_not_of(' '));
+    if (field.rfind(key + "=", 0) == 0) return field.substr(key.size() + 1);
+    begin = end + 1;
+  }
+  return "";
+}
+
+// Compares in a time that does not depend on where they differ.
+bool SameSecret(const std::string& given, const std::string& secret) {
+  if (secret.empty() || given.size() != secret.size()) return false;
+  unsigned char difference = 0;
+  for (size_t i = 0; i < secret.size(); ++i) difference |= given[i] ^ secret[i];
+  return difference == 0;
+}
+
+// Who may use a served run: everyone (no token), or requests carrying the
+// token in their query (?token=...) or in the cookie the page's reply sets.
+class Access {
+ public:
+  // The cookie's name is random too, so that viewers on several ports of one
+  // host (cookies ignore ports) do not overwrite each other's.
+  explicit Access(std::string token)
+      : token_(std::move(token)), cookie_name_("colony_viewer_" + RandomToken().substr(0, 8)) {}
+  bool required() const { return !token_.empty(); }
+  bool Allows(const HttpRequest& request) const {
+    if (!required()) return true;
+    const size_t query = request.resource.find('?');
+    const std::string given =
+        query == std::string::npos ? "" : FieldOf(request.resource.substr(query + 1), "token", '&');
+    return SameSecret(given, token_) ||
+           SameSecret(FieldOf(request.cookie, cookie_name_, ';'), token_);
+  }
+  // The cookie that lets the page's own requests (scripts, three.js) in.
+  std::string Cookie() const {
+    return required() ? cookie_name_ + "=" + token_ + "; Path=/; HttpOnly; SameSite=Strict" : "";
+  }
+  const std::string& token() const { return token_; }
+
+ private:
+  std::string token_, cookie_name_;
+};
+
 // --- Commands --------------------------------------------------------------
 
 // What the page asks, checked on the network thread; the simulation thread
 // only ever sees valid commands. kOpen and kClose come from the hub.
 struct Command {
-  enum Kind { kOpen, kClose, kPlay, kPause, kStep, kSpeed, kReset, kQuit } kind = kOpen;
+  enum Kind {
+    kOpen,
+    kClose,
+    kPlay,
+    kPause,
+    kStep,
+    kSpeed,
+    kReset,
+    kQuit,
+    kInspect,
+    kMove
+  } kind = kOpen;
   WebSocketHub::ConnectionId connection = 0;
   double speed = 0;              // kSpeed: multiple of real time, 0 for "max"
   std::optional<uint64_t> seed;  // kReset: a new seed, or the run's own
+  std::string id;                // kInspect, kMove: an entity's id
+  double x = 0, y = 0;           // kMove: the new place (m)
+  std::optional<double> yaw;     // kMove: the new heading (rad), or the entity's own
 };
 
 Command Event(Command::Kind kind, WebSocketHub::ConnectionId connection) {
@@ -112,8 +212,23 @@ Command Event(Command::Kind kind, WebSocketHub::ConnectionId connection) {
 
 constexpr const char* kCommandsAccepted =
     "{\"cmd\": \"play\" | \"pause\" | \"step\" | \"quit\"}, {\"cmd\": \"speed\", \"value\": a "
-    "number from 0.1 to 1000 (times real time) or \"max\"} or {\"cmd\": \"reset\"[, \"seed\": a "
-    "whole number from 0 to 9223372036854775807]}";
+    "number from 0.1 to 1000 (times real time) or \"max\"}, {\"cmd\": \"reset\"[, \"seed\": a "
+    "whole number from 0 to 9223372036854775807]}, {\"cmd\": \"inspect\", \"id\": an entity's "
+    "id} or {\"cmd\": \"move\", \"id\": an entity's id, \"x\": m, \"y\": m[, \"yaw\": rad]}";
+
+// The longest entity id a command may name.
+constexpr size_t kMaxIdBytes = 256;
+
+// Reads the number `key` of `message` into `value`; why not ("" when read).
+std::string ReadNumber(const json& message, const std::string& cmd, const char* key,
+                       double& value) {
+  const json field = message.value(key, json());
+  if (!field.is_number() || !std::isfinite(field.get<double>())) {
+    return cmd + " " + key + " " + field.dump() + " is not accepted; expected a finite number";
+  }
+  value = field.get<double>();
+  return "";
+}
 
 // Parses one message from a browser into `command`; returns why it is not
 // a valid command ("" when it is).
@@ -126,23 +241,47 @@ std::string ParseCommand(const std::string& payload, bool binary, Command& comma
     return std::string("expected a JSON object with a string \"cmd\": ") + kCommandsAccepted;
   }
   const std::string cmd = message["cmd"].get<std::string>();
-  const bool speed = cmd == "speed";
+  // Each command and the keys it takes besides "cmd".
+  static const std::map<std::string, std::pair<Command::Kind, std::vector<std::string>>> kCommands =
+      {{"play", {Command::kPlay, {}}},
+       {"pause", {Command::kPause, {}}},
+       {"step", {Command::kStep, {}}},
+       {"quit", {Command::kQuit, {}}},
+       {"speed", {Command::kSpeed, {"value"}}},
+       {"reset", {Command::kReset, {"seed"}}},
+       {"inspect", {Command::kInspect, {"id"}}},
+       {"move", {Command::kMove, {"id", "x", "y", "yaw"}}}};
+  const auto known = kCommands.find(cmd);
+  if (known == kCommands.end())
+    return "unknown command '" + cmd + "'; expected " + kCommandsAccepted;
+  const auto& [kind, keys] = known->second;
   for (const auto& [key, value] : message.items()) {
-    if (key != "cmd" && !(speed && key == "value") && !(cmd == "reset" && key == "seed")) {
+    if (key != "cmd" && std::find(keys.begin(), keys.end(), key) == keys.end()) {
       return "command '" + cmd + "' takes no \"" + key + "\"; expected " + kCommandsAccepted;
     }
   }
-  if (cmd == "play")
-    command.kind = Command::kPlay;
-  else if (cmd == "pause")
-    command.kind = Command::kPause;
-  else if (cmd == "step")
-    command.kind = Command::kStep;
-  else if (cmd == "quit")
-    command.kind = Command::kQuit;
-  else if (cmd == "reset") {
-    command.kind = Command::kReset;
-    if (!message.contains("seed")) return "";
+  command.kind = kind;
+  if (kind == Command::kInspect || kind == Command::kMove) {
+    const json id = message.value("id", json());
+    if (!id.is_string() || id.get<std::string>().empty() ||
+        id.get<std::string>().size() > kMaxIdBytes) {
+      return cmd + " id " + id.dump() + " is not accepted; expected an entity's id (a string)";
+    }
+    command.id = id.get<std::string>();
+  }
+  if (kind == Command::kMove) {
+    for (auto [key, value] : {std::pair{"x", &command.x}, std::pair{"y", &command.y}}) {
+      if (std::string problem = ReadNumber(message, cmd, key, *value); !problem.empty())
+        return problem;
+    }
+    if (message.contains("yaw")) {
+      double yaw = 0;
+      if (std::string problem = ReadNumber(message, cmd, "yaw", yaw); !problem.empty())
+        return problem;
+      command.yaw = yaw;
+    }
+  }
+  if (kind == Command::kReset && message.contains("seed")) {
     const json& seed = message["seed"];
     if (!seed.is_number_unsigned() ||
         seed.get<uint64_t>() > static_cast<uint64_t>(std::numeric_limits<int64_t>::max())) {
@@ -150,23 +289,21 @@ std::string ParseCommand(const std::string& payload, bool binary, Command& comma
              " is not accepted; expected a whole number from 0 to 9223372036854775807";
     }
     command.seed = seed.get<uint64_t>();
-    return "";
-  } else if (!speed)
-    return "unknown command '" + cmd + "'; expected " + kCommandsAccepted;
-  if (!speed) return "";
-  command.kind = Command::kSpeed;
-  const json value = message.value("value", json());
-  if (value.is_string() && value.get<std::string>() == "max") {
-    command.speed = 0;
-    return "";
   }
-  if (!value.is_number() ||
-      !(value.get<double>() >= kMinSpeed && value.get<double>() <= kMaxSpeed)) {
-    return "speed value " + value.dump() +
-           " is not accepted; expected a number from 0.1 to 1000 "
-           "(times real time) or \"max\"";
+  if (kind == Command::kSpeed) {
+    const json value = message.value("value", json());
+    if (value.is_string() && value.get<std::string>() == "max") {
+      command.speed = 0;
+      return "";
+    }
+    if (!value.is_number() ||
+        !(value.get<double>() >= kMinSpeed && value.get<double>() <= kMaxSpeed)) {
+      return "speed value " + value.dump() +
+             " is not accepted; expected a number from 0.1 to 1000 "
+             "(times real time) or \"max\"";
+    }
+    command.speed = value.get<double>();
   }
-  command.speed = value.get<double>();
   return "";
 }
 
@@ -279,6 +416,143 @@ std::string EncodeFrame(const Simulation& sim, const std::vector<uint32_t>& move
   return frame;
 }
 
+// --- Inspection ------------------------------------------------------------
+
+// A ring of readings (proximity, light, ground): values and directions.
+template <class Reading>
+void AddRing(json& out, const std::vector<Reading>& readings) {
+  json values = json::array(), angles = json::array();
+  for (const Reading& r : readings) {
+    values.push_back(r.value);
+    angles.push_back(r.angle);
+  }
+  out["values"] = std::move(values);
+  out["angles"] = std::move(angles);
+}
+
+// What a sensor reads now, as the controller sees it; sensors of other kinds
+// than these are listed by label with "shown": false.
+json DescribeSensor(const Sensor* sensor) {
+  json out = json::object();
+  if (const auto* p = dynamic_cast<const ProximitySensor*>(sensor)) {
+    out["kind"] = "proximity";
+    AddRing(out, p->readings());
+  } else if (const auto* l = dynamic_cast<const LightSensor*>(sensor)) {
+    out["kind"] = "light";
+    AddRing(out, l->readings());
+  } else if (const auto* g = dynamic_cast<const GroundSensor*>(sensor)) {
+    out["kind"] = "ground";
+    AddRing(out, g->readings());
+  } else if (const auto* pos = dynamic_cast<const PositioningSensor*>(sensor)) {
+    out = {
+        {"kind", "positioning"}, {"position", {pos->x(), pos->y(), pos->z()}}, {"yaw", pos->yaw()}};
+  } else if (const auto* w = dynamic_cast<const WheelEncoders*>(sensor)) {
+    out = {
+        {"kind", "wheel_encoders"}, {"left", w->distance_left()}, {"right", w->distance_right()}};
+  } else if (const auto* rab = dynamic_cast<const RangeAndBearingSensor*>(sensor)) {
+    json packets = json::array();
+    for (const auto& packet : rab->packets()) {
+      packets.push_back({{"range", packet.range},
+                         {"bearing", packet.bearing},
+                         {"elevation", packet.elevation},
+                         {"data", std::vector<int>(packet.data.begin(), packet.data.end())}});
+    }
+    out = {{"kind", "range_and_bearing"}, {"packets", std::move(packets)}};
+  } else if (const auto* b = dynamic_cast<const Battery*>(sensor)) {
+    out = {{"kind", "battery"}, {"level", b->level()}, {"empty", b->empty()}};
+  } else if (const auto* d = dynamic_cast<const DistanceScanner*>(sensor)) {
+    json readings = json::array();
+    for (const auto& r : d->readings()) readings.push_back({r.angle, r.distance});
+    out = {{"kind", "distance_scanner"},
+           {"rotor_angle", d->rotor_angle()},
+           {"readings", std::move(readings)}};
+  } else if (const auto* gr = dynamic_cast<const GripperSensor*>(sensor)) {
+    out = {{"kind", "gripper"}, {"turret_angle", gr->turret_angle()}, {"holding", gr->holding()}};
+  } else if (const auto* imu = dynamic_cast<const Imu*>(sensor)) {
+    out = {{"kind", "imu"},
+           {"angular_velocity", imu->angular_velocity()},
+           {"acceleration", imu->acceleration()}};
+  } else {
+    out["shown"] = false;
+  }
+  return out;
+}
+
+// The last commands the controller gave an actuator.
+json DescribeActuator(const Actuator* actuator) {
+  json out = json::object();
+  if (const auto* d = dynamic_cast<const DifferentialSteering*>(actuator)) {
+    out = {{"kind", "differential_steering"},
+           {"left", d->target_left()},
+           {"right", d->target_right()}};
+  } else if (const auto* leds = dynamic_cast<const Leds*>(actuator)) {
+    json colors = json::array();
+    for (Color c : leds->colors()) colors.push_back(Rgb(c));
+    out = {{"kind", "leds"}, {"colors", std::move(colors)}};
+  } else if (const auto* g = dynamic_cast<const GripperActuator*>(actuator)) {
+    out = {{"kind", "gripper"}, {"turret_target", g->turret_target()}, {"gripping", g->gripping()}};
+  } else if (const auto* rab = dynamic_cast<const RangeAndBearingActuator*>(actuator)) {
+    out = {{"kind", "range_and_bearing"},
+           {"sending", rab->sending()},
+           {"data", std::vector<int>(rab->data().begin(), rab->data().end())}};
+  } else {
+    out["shown"] = false;
+  }
+  return out;
+}
+
+// Collects a controller's RecordValues into a JSON object.
+class JsonValues : public RobotValues {
+ public:
+  void Set(std::string_view name, double value) override {
+    values_[std::string(name)] = std::isfinite(value) ? json(value) : json(std::to_string(value));
+  }
+  void SetLabel(std::string_view name, std::string_view label) override {
+    values_[std::string(name)] = std::string(label);
+  }
+  json& values() { return values_; }
+
+ private:
+  json values_ = json::object();
+};
+
+// Everything the page shows of entity `slot`: where it is and, for a robot,
+// its sensors' readings, its actuators' last commands and its controller's
+// values (Controller::RecordValues).
+std::string InspectJson(const Simulation& sim, uint32_t slot) {
+  const Space& space = sim.space();
+  const Pose& pose = space.pose(slot);
+  json out = Describe(space, slot);
+  out["type"] = "inspect";
+  out["entity_type"] = space.TypeLabel(space.type(slot));
+  out["tick"] = sim.tick();
+  out["robot"] = (space.flags(slot) & kRobot) != 0;
+  out["movable"] = space.movable(slot);
+  out["position"] = Xyz(pose.position);
+  out["yaw"] = YawOf(pose.orientation);
+  const Controller* controller = sim.ControllerOf(space.HandleOf(slot));
+  if (!controller) return out.dump(-1, ' ', false, json::error_handler_t::replace);
+  out["controller"] = sim.ControllerLabelOf(space.HandleOf(slot));
+  const DeviceTable& devices = controller->devices();
+  json sensors = json::array(), actuators = json::array();
+  for (size_t i = 0; devices.sensor_labels && i < devices.sensor_labels->size(); ++i) {
+    json sensor = DescribeSensor(devices.sensors[i]);
+    sensor["label"] = (*devices.sensor_labels)[i];
+    sensors.push_back(std::move(sensor));
+  }
+  for (size_t i = 0; devices.actuator_labels && i < devices.actuator_labels->size(); ++i) {
+    json actuator = DescribeActuator(devices.actuators[i]);
+    actuator["label"] = (*devices.actuator_labels)[i];
+    actuators.push_back(std::move(actuator));
+  }
+  JsonValues values;
+  controller->RecordValues(values);
+  out["sensors"] = std::move(sensors);
+  out["actuators"] = std::move(actuators);
+  out["values"] = std::move(values.values());
+  return out.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 // --- The served run --------------------------------------------------------
 
 class Server {
@@ -286,6 +560,7 @@ class Server {
   Server(Simulation& sim, const ServeOptions& options, std::string web_dir)
       : sim_(sim),
         options_(options),
+        access_(options.token.empty() && !IsLoopback(options.host) ? RandomToken() : options.token),
         hub_(Handlers(std::move(web_dir)), kMaxMessageBytes, kMaxBufferedBytes) {}
 
   // The network thread calls into this object: it stops before the members go.
@@ -300,7 +575,8 @@ class Server {
     }
     const bool v6 = options_.host.find(':') != std::string::npos;
     const std::string url = "http://" + (v6 ? "[" + options_.host + "]" : options_.host) + ":" +
-                            std::to_string(port) + "/";
+                            std::to_string(port) + "/" +
+                            (access_.required() ? "?token=" + access_.token() : "");
     if (options_.on_listening) {
       options_.on_listening(url);
     } else {
@@ -332,8 +608,20 @@ class Server {
  private:
   WebSocketHub::Handlers Handlers(std::string web_dir) {
     WebSocketHub::Handlers h;
-    h.http = [web_dir, three = options_.three_dir](const std::string& resource) {
-      return ServeFile(resource, web_dir, three);
+    h.http = [this, web_dir, three = options_.three_dir](const HttpRequest& request) {
+      if (!access_.Allows(request)) {
+        return HttpReply{403, "text/plain; charset=utf-8",
+                         "forbidden: this viewer needs the token of the URL it printed "
+                         "(http://HOST:PORT/?token=...)\n"};
+      }
+      HttpReply reply = ServeFile(request.resource, web_dir, three);
+      reply.set_cookie = access_.Cookie();
+      return reply;
+    };
+    h.accept = [this](const HttpRequest& request) {
+      const bool allowed = access_.Allows(request);
+      if (!allowed) LogWarning("viewer: refused a WebSocket connection without the right token");
+      return allowed;
     };
     h.open = [this](WebSocketHub::ConnectionId id) { Push(Event(Command::kOpen, id)); };
     h.close = [this](WebSocketHub::ConnectionId id) { Push(Event(Command::kClose, id)); };
@@ -414,7 +702,15 @@ class Server {
       commands.swap(queue_);
       pending_.store(false, std::memory_order_relaxed);
     }
-    for (const Command& c : commands) {
+    for (auto it = commands.begin(); it != commands.end(); ++it) {
+      const Command& c = *it;
+      // What follows a step sees the stepped run: it waits for the step.
+      if (steps_ > 0) {
+        std::lock_guard lock(mutex_);
+        queue_.insert(queue_.begin(), it, commands.end());
+        pending_.store(true, std::memory_order_relaxed);
+        return true;
+      }
       switch (c.kind) {
         case Command::kOpen:
           LogInfo("viewer: connection " + std::to_string(c.connection) + " opened");
@@ -450,9 +746,68 @@ class Server {
         case Command::kQuit:
           LogInfo("viewer: connection " + std::to_string(c.connection) + " ended the run");
           return false;
+        case Command::kInspect:
+          Inspect(c);
+          break;
+        case Command::kMove:
+          Move(c);
+          break;
       }
     }
     return true;
+  }
+
+  // Tells one page why its command was refused (and logs it).
+  void SendError(WebSocketHub::ConnectionId to, const std::string& problem) {
+    LogWarning("viewer: connection " + std::to_string(to) + ": " + problem);
+    SendTo(to,
+           json({{"type", "error"}, {"message", problem}})
+               .dump(-1, ' ', false, json::error_handler_t::replace),
+           false);
+  }
+
+  // The slot of entity `id`, or none (the asking page is told).
+  std::optional<uint32_t> Slot(const Command& c, const char* what) {
+    const EntityHandle h = sim_.space().Find(c.id);
+    if (h.valid() && sim_.space().IsAlive(h)) return h.index;
+    SendError(c.connection, std::string(what) + ": there is no entity '" + c.id + "'");
+    return std::nullopt;
+  }
+
+  void Inspect(const Command& c) {
+    if (const auto slot = Slot(c, "inspect")) SendTo(c.connection, InspectJson(sim_, *slot), false);
+  }
+
+  // Moves a robot or a movable object (Simulation::MoveEntity) while
+  // paused; every page gets the new frame and a status saying the run was
+  // moved.
+  void Move(const Command& c) {
+    const auto slot = Slot(c, "move");
+    if (!slot) return;
+    const Space& space = sim_.space();
+    const std::string what =
+        "move '" + c.id + "' to (" + std::to_string(c.x) + ", " + std::to_string(c.y) + ")";
+    if (playing_ || steps_ > 0) return SendError(c.connection, what + ": pause the run first");
+    if (!space.movable(*slot)) return SendError(c.connection, what + ": it is fixed");
+    const Vec3& min = space.arena_min();
+    const Vec3& max = space.arena_max();
+    if (!(c.x >= min.x() && c.x <= max.x() && c.y >= min.y() && c.y <= max.y())) {
+      return SendError(c.connection, what + ": outside the arena");
+    }
+    Pose pose = space.pose(*slot);
+    pose.position.x() = c.x;
+    pose.position.y() = c.y;
+    if (c.yaw) pose.orientation = FromYaw(*c.yaw);
+    if (const std::string problem = sim_.MoveEntity(space.HandleOf(*slot), pose);
+        !problem.empty()) {
+      return SendError(c.connection, what + ": " + problem);
+    }
+    LogInfo("viewer: connection " + std::to_string(c.connection) + " moved '" + c.id + "' to (" +
+            std::to_string(c.x) + ", " + std::to_string(c.y) + ") at tick " +
+            std::to_string(sim_.tick()));
+    moved_ = true;
+    if (hub_.connections() > 0) SendFrame();
+    SendStatus();
   }
 
   // Back to tick 0 (Simulation::Reset), paused; every page gets the scene
@@ -469,6 +824,7 @@ class Server {
       SendStatus();
       return;
     }
+    moved_ = false;
     LogInfo("viewer: connection " + std::to_string(c.connection) + " reset the run (seed " +
             std::to_string(sim_.seed()) + ")");
     ListMovers(sim_.space(), movers_);
@@ -493,7 +849,8 @@ class Server {
   std::string StatusJson() const {
     const json status = {{"type", "status"},    {"tick", sim_.tick()},
                          {"seed", sim_.seed()}, {"playing", playing_},
-                         {"done", sim_.Done()}, {"speed", speed_ > 0 ? json(speed_) : json("max")}};
+                         {"done", sim_.Done()}, {"speed", speed_ > 0 ? json(speed_) : json("max")},
+                         {"moved", moved_}};
     return status.dump();
   }
   void SendStatus() {
@@ -519,6 +876,7 @@ class Server {
 
   Simulation& sim_;
   const ServeOptions& options_;
+  const Access access_;  // before hub_: its handlers read it
   WebSocketHub hub_;
   // Commands from the network thread.
   std::mutex mutex_;
@@ -527,8 +885,9 @@ class Server {
   std::atomic<bool> pending_{false};
   // Simulation thread only.
   bool playing_ = false;
-  double speed_ = 1;  // times real time; 0: as fast as possible
-  int steps_ = 0;     // single steps asked for and not yet taken
+  double speed_ = 1;    // times real time; 0: as fast as possible
+  int steps_ = 0;       // single steps asked for and not yet taken
+  bool moved_ = false;  // an entity was moved since the start or the last reset
   Clock::time_point paced_from_;
   uint64_t paced_from_tick_ = 0;
   Clock::time_point next_frame_;
@@ -594,9 +953,16 @@ int ServeRun(Simulation& sim, const ServeOptions& options) {
         "the viewer's speed must be 0 (as fast as possible) or from 0.1 to 1000, not " +
         std::to_string(options.speed));
   }
-  if (options.host != "127.0.0.1" && options.host != "localhost" && options.host != "::1") {
+  if (options.token.find_first_not_of(
+          "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_") !=
+      std::string::npos) {
+    throw RuntimeFailure("the viewer's token '" + options.token +
+                         "' is not accepted; expected letters, digits, '-' and '_'");
+  }
+  if (!IsLoopback(options.host)) {
     LogWarning("viewer: listening on " + options.host +
-               ": anyone who can reach this address can watch and control the run");
+               ": anyone who can reach this address and has the URL's token can watch and "
+               "control the run");
   }
   Server server(sim, options, web_dir);
   return server.Run();

@@ -1,8 +1,10 @@
 // The live viewer (`colony run FILE --serve [HOST:]PORT`): serves a run over
 // HTTP + WebSocket to a web page that draws it with three.js. The run
-// starts paused; the page plays, pauses, steps it and sets its speed.
-// The protocol (scene JSON once, binary frames, JSON commands) is in
-// docs/viewer.md.
+// starts paused; the page plays, pauses, steps it and sets its speed,
+// inspects a robot (its sensors' readings, its actuators' last commands,
+// its controller's values) and, while paused, moves robots and movable
+// objects (Simulation::MoveEntity). The protocol (scene JSON once, binary
+// frames, JSON commands) is in docs/viewer.md.
 //
 // Threads: the simulation is stepped only on the thread calling ServeRun;
 // the network thread (ws_hub.h) parses and checks what browsers send and
@@ -22,6 +24,11 @@ class Simulation;
 struct ServeOptions {
   std::string host = "127.0.0.1";
   int port = 0;  // 0: any free port (the URL printed names it)
+  // The access token the page and the WebSocket must carry (?token=..., or
+  // the cookie the page's reply sets), printed as part of the URL. "": none
+  // on a loopback address (127.0.0.1, ::1, localhost), a random one (128
+  // bits) on any other; a token set here is required whatever the address.
+  std::string token;
   // Frames per second of wall time sent while the run plays, at most.
   double updates_per_second = 10;
   // How the run starts: paused (the default, as `colony run --serve`), or
@@ -36,7 +43,7 @@ struct ServeOptions {
   // Called after every tick, on the simulation thread (the host records its
   // output there: metrics rows, renderers).
   std::function<void(Simulation&)> after_tick;
-  // Called once listening, with the page's URL; by default prints
+  // Called once listening, with the page's URL (with its ?token=...); by default prints
   // "viewer: open http://HOST:PORT/ in a browser" to standard output.
   std::function<void(const std::string& url)> on_listening;
   // Set by another thread to end ServeRun (tests, embedding programs).

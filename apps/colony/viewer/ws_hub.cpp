@@ -54,11 +54,20 @@ WebSocketHub::WebSocketHub(Handlers handlers, size_t max_message_bytes, size_t m
   s.set_max_message_size(max_message_bytes);
   s.set_http_handler([&d](Handle h) {
     Server::connection_ptr con = d.server.get_con_from_hdl(h);
-    const HttpReply reply = d.handlers.http(con->get_resource());
+    const HttpReply reply =
+        d.handlers.http({con->get_resource(), con->get_request_header("Cookie")});
     con->set_status(static_cast<websocketpp::http::status_code::value>(reply.status));
     con->replace_header("Content-Type", reply.content_type);
     con->replace_header("Cache-Control", "no-cache");
+    if (!reply.set_cookie.empty()) con->replace_header("Set-Cookie", reply.set_cookie);
     con->set_body(reply.body);
+  });
+  s.set_validate_handler([&d](Handle h) {
+    if (!d.handlers.accept) return true;
+    Server::connection_ptr con = d.server.get_con_from_hdl(h);
+    if (d.handlers.accept({con->get_resource(), con->get_request_header("Cookie")})) return true;
+    con->set_status(websocketpp::http::status_code::forbidden);
+    return false;
   });
   s.set_open_handler([&d](Handle h) {
     const ConnectionId id = d.next_id++;

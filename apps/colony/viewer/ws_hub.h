@@ -17,11 +17,18 @@
 
 namespace colony::viewer {
 
+// What the handlers see of an HTTP request (a GET, or a WebSocket upgrade).
+struct HttpRequest {
+  std::string resource;  // "/path?query"
+  std::string cookie;    // the Cookie header, "" without one
+};
+
 // The answer to an HTTP GET.
 struct HttpReply {
   int status = 200;
   std::string content_type = "text/plain";
   std::string body;
+  std::string set_cookie;  // a Set-Cookie header's value, "" for none
 };
 
 class WebSocketHub {
@@ -29,7 +36,10 @@ class WebSocketHub {
   using ConnectionId = uint64_t;
   // Called on the network thread; they must not block for long.
   struct Handlers {
-    std::function<HttpReply(const std::string& resource)> http;  // "/path?query"
+    std::function<HttpReply(const HttpRequest&)> http;
+    // Whether a WebSocket upgrade may go ahead (unset: always); a refused
+    // one is answered 403 Forbidden.
+    std::function<bool(const HttpRequest&)> accept;
     std::function<void(ConnectionId)> open, close;
     std::function<void(ConnectionId, const std::string& payload, bool binary)> message;
   };

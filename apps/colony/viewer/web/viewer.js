@@ -37,7 +37,7 @@ let scene = null;        // the scene description (JSON)
 let arena = null;        // THREE.Group: floor, grid, fixed objects
 let groups = [];         // per robot type: { parts, members, ... }
 let movers = [];         // per mover: { desc, group, index, scale, pose, led }
-let tick = 0, playing = false, done = false, speed = 1;
+let tick = 0, playing = false, done = false, speed = 1, moved = false;
 let selected = -1;
 let needsRender = true;
 let socket = null;
@@ -231,6 +231,13 @@ function buildScene(desc) {
   });
   for (const [key, members] of byType) buildGroup(key, members);
   if (selected >= movers.length) selected = -1;
+  // ?select=ID in the page's address selects that robot once (for links and tests).
+  const wanted = new URLSearchParams(location.search).get('select');
+  if (wanted && !selectedFromAddress) {
+    selectedFromAddress = true;
+    selected = movers.findIndex((m) => m.desc.id === wanted);
+    askInspect();
+  }
   const first = !camera.userData.placed;
   if (first) perspectiveView();
   needsRender = true;
@@ -320,20 +327,81 @@ function pick(clientX, clientY) {
   return bestDistance <= Math.max(12, 1.5 * pixels) ? best : -1;
 }
 
+// The last inspection reply (sensors, actuators, controller values) of the
+// selected robot, and when the next may be asked for.
+let inspected = null, inspectAsked = 0, inspectTick = -1, selectedFromAddress = false;
+
+function askInspect() {
+  if (selected < 0) return;
+  inspectAsked = performance.now();
+  inspectTick = tick;
+  send({ cmd: 'inspect', id: movers[selected].desc.id });
+}
+// While a robot is selected, its readings follow the run: asked again when
+// the tick changed, at most 3 times a second.
+function refreshInspect() {
+  if (selected >= 0 && tick !== inspectTick && performance.now() - inspectAsked > 330) askInspect();
+}
+
+function fixed(v, digits = 3) {
+  return typeof v === 'number' && !Number.isInteger(v) ? v.toFixed(digits) : String(v);
+}
+function tuple(x) { return Array.isArray(x) ? `(${x.map((y) => fixed(y, 2)).join(', ')})` : fixed(x); }
+
+// One device's lines: a ring's values 8 to a line, other fields one a line.
+function deviceLines(d) {
+  const name = d.kind && d.kind !== d.label ? `${d.label} (${d.kind})` : d.label;
+  if (d.shown === false) return [`${name}: not shown`];
+  if (d.values) {
+    const lines = [`${name}: ${d.values.length} readings`];
+    for (let i = 0; i < d.values.length; i += 8) {
+      lines.push('  ' + d.values.slice(i, i + 8).map((v) => v.toFixed(2)).join(' '));
+    }
+    return lines;
+  }
+  const lines = [name + ':'];
+  for (const [k, v] of Object.entries(d)) {
+    if (k === 'label' || k === 'kind') continue;
+    let text;
+    if (Array.isArray(v)) {
+      const shown = v.map(tuple);
+      if (shown.length > 1 && shown.every((t) => t === shown[0])) text = `${shown.length} x ${shown[0]}`;
+      else text = shown.length > 12 ? `${shown.length} items` : shown.join(' ');
+    } else text = fixed(v);
+    lines.push(`  ${k} ${text}`);
+  }
+  return lines;
+}
+
 function showInspect() {
   const panel = document.getElementById('inspect');
   if (selected < 0) { panel.hidden = true; highlight.visible = false; return; }
   const m = movers[selected];
   const [x, y, z, yaw] = m.pose;
   panel.hidden = false;
-  panel.textContent =
-    `${m.desc.id}  (${m.desc.type}${m.desc.robot ? '' : ', object'})\n` +
-    `x   ${x.toFixed(3)} m\ny   ${y.toFixed(3)} m\nz   ${z.toFixed(3)} m\n` +
-    `yaw ${(yaw * 180 / Math.PI).toFixed(1)} deg\n` +
-    `LED ${m.led.join(', ')}\ntick ${tick}`;
+  const lines = [
+    `${m.desc.id}  (${m.desc.type}${m.desc.robot ? '' : ', object'})`,
+    `x   ${x.toFixed(3)} m`, `y   ${y.toFixed(3)} m`, `z   ${z.toFixed(3)} m`,
+    `yaw ${(yaw * 180 / Math.PI).toFixed(1)} deg`, `LED ${m.led.join(', ')}`, `tick ${tick}`];
+  const info = inspected && inspected.id === m.desc.id ? inspected : null;
+  if (info && info.controller) {
+    lines.push('', `controller ${info.controller}  (read at tick ${info.tick})`, '', 'sensors');
+    for (const d of info.sensors) lines.push(...deviceLines(d).map((l) => '  ' + l));
+    lines.push('actuators');
+    for (const d of info.actuators) lines.push(...deviceLines(d).map((l) => '  ' + l));
+    const values = Object.entries(info.values);
+    if (values.length) {
+      lines.push('values');
+      for (const [k, v] of values) lines.push(`  ${k} ${fixed(v)}`);
+    }
+  }
+  if (!playing && !done) lines.push('', 'shift + drag: move it');
+  panel.textContent = lines.join('\n');
   highlight.visible = true;
-  highlight.position.set(x, y, z + 0.002);
+  const at = dragging >= 0 && dragTo ? dragTo : [x, y];
+  highlight.position.set(at[0], at[1], z + 0.002);
   highlight.scale.set(m.scale[0], m.scale[1], 1);
+  document.body.dataset.inspected = info ? info.id : '';
 }
 
 // --- Messages and controls ------------------------------------------------
@@ -354,7 +422,7 @@ function send(command) {
 function updateBar() {
   const seconds = scene ? (tick * scene.dt).toFixed(1) : '0';
   document.getElementById('clock').textContent =
-    `tick ${tick}  t = ${seconds} s  ${done ? '(done)' : playing ? '' : '(paused)'}`;
+    `tick ${tick}  t = ${seconds} s  ${done ? '(done)' : playing ? '' : '(paused)'}${moved ? ' (moved)' : ''}`;
   document.getElementById('play').innerHTML = playing ? '&#10074;&#10074; Pause' : '&#9654; Play';
   document.getElementById('play').disabled = done;
   document.getElementById('step').disabled = done;
@@ -363,23 +431,31 @@ function updateBar() {
 }
 
 function connect() {
-  socket = new WebSocket(`ws://${location.host}/`);
+  // The page's query carries the access token, when the server asks for one.
+  socket = new WebSocket(`ws://${location.host}/${location.search}`);
   socket.binaryType = 'arraybuffer';
   socket.onmessage = (event) => {
     if (event.data instanceof ArrayBuffer) {
       applyFrame(event.data);
       updateBar();
+      refreshInspect();
       return;
     }
     const message = JSON.parse(event.data);
     if (message.type === 'scene') buildScene(message);
     else if (message.type === 'status') {
       tick = message.tick; playing = message.playing; done = message.done; speed = message.speed;
+      moved = message.moved;
       if (document.activeElement !== document.getElementById('seed')) {
         document.getElementById('seed').value = String(message.seed);
       }
       document.getElementById('speed').value = String(speed);
       updateBar();
+      refreshInspect();
+      needsRender = true;
+    } else if (message.type === 'inspect') {
+      inspected = message;
+      needsRender = true;
     } else if (message.type === 'error') showMessage('the simulator says: ' + message.message);
   };
   socket.onclose = (event) => {
@@ -410,13 +486,54 @@ window.addEventListener('keydown', (e) => {
   else if (e.key === 's') send({ cmd: 'step' });
   else if (e.key === 't') topView();
   else if (e.key === 'p') perspectiveView();
-  else if (e.key === 'Escape') { selected = -1; needsRender = true; }
+  else if (e.key === 'Escape') { selected = -1; inspected = null; needsRender = true; }
 });
-let down = null;
-renderer.domElement.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
+// Click: select (and inspect) the robot under the pointer. Shift + drag
+// while paused: move a robot or movable object (the simulator checks the
+// place; the next frame shows it there, or an error says why not).
+let down = null, dragging = -1, dragTo = null;
+const floorPlane = new THREE.Plane(new THREE.Vector3(0, 0, 1), 0);
+const raycaster = new THREE.Raycaster();
+function floorPoint(e, z) {
+  const rect = renderer.domElement.getBoundingClientRect();
+  const ndc = new THREE.Vector2((e.clientX - rect.left) / rect.width * 2 - 1,
+                                -(e.clientY - rect.top) / rect.height * 2 + 1);
+  raycaster.setFromCamera(ndc, camera);
+  floorPlane.constant = -z;
+  const hit = new THREE.Vector3();
+  return raycaster.ray.intersectPlane(floorPlane, hit) ? [hit.x, hit.y] : null;
+}
+renderer.domElement.addEventListener('pointerdown', (e) => {
+  down = [e.clientX, e.clientY];
+  if (!e.shiftKey || playing) return;
+  const i = pick(e.clientX, e.clientY);
+  if (i < 0) return;
+  dragging = i;
+  dragTo = null;
+  selected = i;
+  controls.enabled = false;
+  renderer.domElement.setPointerCapture(e.pointerId);
+  needsRender = true;
+});
+renderer.domElement.addEventListener('pointermove', (e) => {
+  if (dragging < 0) return;
+  dragTo = floorPoint(e, movers[dragging].pose[2]);
+  needsRender = true;
+});
 renderer.domElement.addEventListener('pointerup', (e) => {
+  if (dragging >= 0) {
+    const m = movers[dragging];
+    if (dragTo) send({ cmd: 'move', id: m.desc.id, x: dragTo[0], y: dragTo[1] });
+    dragging = -1;
+    dragTo = null;
+    controls.enabled = true;
+    needsRender = true;
+    return;
+  }
   if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
   selected = pick(e.clientX, e.clientY);
+  inspected = null;
+  askInspect();
   needsRender = true;
 });
 window.addEventListener('resize', () => {

@@ -75,6 +75,8 @@ class CCI_Controller : public CBaseConfigurableResource {
 // REGISTER_CONTROLLER(CFootBotDiffusion, "footbot_diffusion_controller"):
 // the controller element of that name in an experiment file runs CLASSNAME.
 // As in ARGoS, no semicolon is needed after it.
-#define REGISTER_CONTROLLER(CLASSNAME, LABEL)                                        \
-  COLONY_REGISTER_CONTROLLER(::argos::internal::ControllerHostFor<CLASSNAME>, LABEL, \
-                             "ARGoS controller " #CLASSNAME " (C++ compatibility layer)");
+#define REGISTER_CONTROLLER(CLASSNAME, LABEL)                      \
+  COLONY_REGISTER_CONTROLLER(                                      \
+      ::argos::internal::ControllerHostFor<CLASSNAME>, LABEL,      \
+      "ARGoS controller " #CLASSNAME " (C++ compatibility layer)", \
+      {{"*", "any name", "", "read by the controller's Init (TConfigurationNode)"}});
