@@ -607,6 +607,40 @@ TEST(Sweep, MetricNamedWithCommaAndQuotesSurvivesEveryTable) {
   fs::remove_all(tmp);
 }
 
+// Two runs of a sweep, at the same time, each writing a table through the
+// run-folder API: each table lands in its own run folder with its own rows,
+// and nothing is written to the directory the sweep was started from.
+TEST(Sweep, RunsWritingTablesThroughTheRunFolderApiNeverTouchEachOthersFiles) {
+  const fs::path out = TempDir("tables"), tmp = TempDir("tables_exp"), cwd = TempDir("tables_cwd");
+  fs::create_directories(tmp);
+  fs::create_directories(cwd);
+  const fs::path exp = tmp / "tables.xml";
+  std::ofstream(exp)
+      << "<colony><framework><experiment length=\"0.3\" ticks_per_second=\"10\" "
+         "random_seed=\"1\"/></framework><loop_functions library=\"" COLONY_BINARY_DIR
+         "/tests/plugins/libsweep_metrics.so\" label=\"sweep_metrics\"><params "
+         "table=\"tracks/ticks.csv\"/></loop_functions>"
+         "<arena size=\"2,2,1\" center=\"0,0,0.5\"/>"
+         "<physics_engines><kinematics2d id=\"k2d\"/></physics_engines></colony>";
+  const Result r = Shell("cd " + cwd.string() + " && " + COLONY_EXE + " sweep " + exp.string() +
+                         " --seeds 1..2 --jobs 2 --quiet --out " + out.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* seed : {"1", "2"}) {
+    const fs::path table = out / "runs" / (std::string("seed=") + seed) / "tracks" / "ticks.csv";
+    const auto rows = PythonCsv(table);
+    ASSERT_EQ(rows.size(), 5u) << ReadFile(table);  // header, ticks 0 to 3
+    EXPECT_EQ(rows[0], nlohmann::json({"tick", "seed"}));
+    for (size_t i = 1; i < rows.size(); ++i) {
+      EXPECT_EQ(rows[i][0], std::to_string(i - 1));
+      EXPECT_EQ(rows[i][1], seed) << table;
+    }
+  }
+  EXPECT_TRUE(fs::is_empty(cwd)) << "something was written to the sweep's current directory";
+  fs::remove_all(out);
+  fs::remove_all(tmp);
+  fs::remove_all(cwd);
+}
+
 TEST(Sweep, SummaryTimeseriesHoldsStatisticsOverSeedsPerTick) {
   const fs::path out = TempDir("series"), tmp = TempDir("series_exp");
   const fs::path exp = MetricsExperiment(tmp, "value");

@@ -7,6 +7,8 @@
 #     build-asan/fuzz_artifacts for tests/fuzz/regressions);
 #  3. the multi-threaded tests (thread pool, determinism at 0, 1 and 2
 #     threads) built with ThreadSanitizer.
+# The Python module is left out of both builds: an instrumented extension
+# cannot be loaded by Debian's uninstrumented python3.
 # Build folders: build-asan, build-tsan (COLONY_ASAN_BUILD_DIR, COLONY_TSAN_BUILD_DIR).
 # COLONY_FUZZ_RUNS sets the number of fuzz inputs (default 50000).
 set -euo pipefail
@@ -22,7 +24,7 @@ start=$SECONDS
 
 stage "AddressSanitizer + UndefinedBehaviorSanitizer: build"
 CC=clang CXX=clang++ cmake -S . -B "$ASAN_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCOLONY_SANITIZE=address \
-  -DCOLONY_BUILD_FUZZERS=ON -DCOLONY_BUILD_BENCHMARKS=OFF
+  -DCOLONY_BUILD_FUZZERS=ON -DCOLONY_BUILD_BENCHMARKS=OFF -DCOLONY_WITH_PYTHON=OFF
 cmake --build "$ASAN_DIR" -j2
 
 # intercept_tls_get_addr=0: clang 14's runtime takes some of glibc 2.36's dynamic TLS blocks for
@@ -55,7 +57,7 @@ TSAN_TARGETS=(core_test kinematics2d_test dynamics2d_test dynamics3d_test media_
               manipulator_sensor_test handbot_shelf_test pointmass3d_test eyebot_dynamics3d_test eyebot_vision_test
               eyebot_guidance_test)
 CC=clang CXX=clang++ cmake -S . -B "$TSAN_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCOLONY_SANITIZE=thread \
-  -DCOLONY_BUILD_BENCHMARKS=OFF -DCOLONY_WITH_OSMESA=OFF
+  -DCOLONY_BUILD_BENCHMARKS=OFF -DCOLONY_WITH_OSMESA=OFF -DCOLONY_WITH_PYTHON=OFF
 cmake --build "$TSAN_DIR" -j2 --target "${TSAN_TARGETS[@]}"
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$SUPP/tsan.supp"
 stage "ThreadSanitizer: the multi-threaded tests"
