@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <chrono>
 #include <climits>
 #include <cmath>
@@ -329,9 +330,11 @@ void RunOutput::Record(Simulation& sim, bool all) {
     std::snprintf(number, sizeof number, "%llu,%.15g", static_cast<unsigned long long>(tick),
                   sim.time());
     row_ = number;
+    // The shortest text that reads back as the same double, as summary.json
+    // and results.csv have it.
     for (double v : m.values()) {
-      std::snprintf(number, sizeof number, ",%.10g", v);
-      row_ += number;
+      row_ += ',';
+      row_.append(number, std::to_chars(number, number + sizeof number, v).ptr);
     }
     row_ += '\n';
     metrics_->Append(row_);
