@@ -5,7 +5,8 @@
 //   colony query [KIND|NAME]
 //   colony sweep FILE.xml [--param PATH=V1,V2,...]... [--seeds A..B] ...  (apps/colony/sweep.h)
 //   colony plot FOLDER --metric NAME [--against PARAM] ...              (apps/colony/plot.cpp)
-//   colony version
+//   colony view RUN_FOLDER [--serve [HOST:]PORT] (apps/colony/viewer/view_command.cpp) colony
+//   version
 // `colony --help` and `colony COMMAND --help` describe each option.
 // Exit status: 0 success, 2 bad input (file or command line), 1 failure while running,
 // 128 + N after signal N (SIGINT 130, SIGTERM 143, SIGHUP 129: the run stops after
@@ -538,6 +539,9 @@ int main(int argc, char** argv) {
   app.add_subcommand("plot",
                      "draws a metric of a run or a sweep as PNG with gnuplot ('colony plot "
                      "--help')");
+  app.add_subcommand("view",
+                     "serves a replay of a finished run from its recorded trajectories to the "
+                     "live viewer ('colony view --help')");
 
   // The command named, for "run 'colony COMMAND --help'".
   std::string command;
@@ -553,12 +557,14 @@ int main(int argc, char** argv) {
     }
     if (command == "sweep") return colony::sweep::SweepCommand({args.begin() + 1, args.end()});
     if (command == "plot") return colony::sweep::PlotCommand({args.begin() + 1, args.end()});
+    if (command == "view") return colony::ViewCommand({args.begin() + 1, args.end()});
     // "colony help [COMMAND]", as "colony [COMMAND] --help".
     if (args[0] == "help") {
       args.erase(args.begin());
       if (args.size() > 1) throw UsageError("help takes at most one COMMAND");
       if (!args.empty() && args[0] == "sweep") return colony::sweep::SweepCommand({"--help"});
       if (!args.empty() && args[0] == "plot") return colony::sweep::PlotCommand({"--help"});
+      if (!args.empty() && args[0] == "view") return colony::ViewCommand({"--help"});
       args.push_back("--help");
     }
     if (!colony::cli::Parse(app, args)) return 0;

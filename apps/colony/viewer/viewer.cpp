@@ -23,6 +23,7 @@
 #include "actuators/gripper/gripper.h"
 #include "actuators/leds/leds.h"
 #include "actuators/range_and_bearing/range_and_bearing.h"
+#include "apps/colony/viewer/frame_source.h"
 #include "apps/colony/viewer/ws_hub.h"
 #include "core/crash_report.h"
 #include "core/error.h"
@@ -83,7 +84,7 @@ const char* ContentType(const fs::path& path) {
 }
 
 HttpReply NotFound(const std::string& what) {
-  return {404, "text/plain; charset=utf-8", "not found: " + what + "\n"};
+  return {404, "text/plain; charset=utf-8", "not found: " + what + "\n", ""};
 }
 
 // GET `resource`: "/" is the page, "/three/..." three.js, anything else a
@@ -107,8 +108,8 @@ HttpReply ServeFile(const std::string& resource, const std::string& web_dir,
   std::ifstream in(file, std::ios::binary);
   std::ostringstream body;
   body << in.rdbuf();
-  if (!in && !in.eof()) return {500, "text/plain", "cannot read " + path + "\n"};
-  return {200, ContentType(file), body.str()};
+  if (!in && !in.eof()) return {500, "text/plain", "cannot read " + path + "\n", ""};
+  return {200, ContentType(file), body.str(), ""};
 }
 
 // --- Access ----------------------------------------------------------------
@@ -343,7 +344,7 @@ void ListMovers(const Space& space, std::vector<uint32_t>& movers) {
 // The scene description, sent once per connection and again when the
 // entities change: arena, floor, fixed entities (with their poses) and
 // movers (without: the frames carry them).
-std::string SceneJson(const Simulation& sim, const std::vector<uint32_t>& movers) {
+std::string SceneJson(const Simulation& sim, const std::vector<uint32_t>& movers, bool replay) {
   const Space& space = sim.space();
   // The floor's flat colour: ColorAt away from any image is that colour.
   const double far = std::numeric_limits<double>::infinity();
@@ -375,6 +376,7 @@ std::string SceneJson(const Simulation& sim, const std::vector<uint32_t>& movers
   json scene = {{"type", "scene"},
                 {"protocol", 1},
                 {"file", sim.file()},
+                {"replay", replay},
                 {"dt", sim.dt()},
                 {"length_ticks", sim.length_ticks()},
                 {"arena", {{"min", Xyz(space.arena_min())}, {"max", Xyz(space.arena_max())}}},
@@ -390,12 +392,11 @@ std::string SceneJson(const Simulation& sim, const std::vector<uint32_t>& movers
 
 // One frame: header (magic, mover count, tick), then per mover x, y, z, yaw
 // (float32) and the colour it shows (its first LED, else its body colour).
-std::string EncodeFrame(const Simulation& sim, const std::vector<uint32_t>& movers) {
+std::string EncodeFrame(const Simulation& sim, uint64_t tick, const std::vector<uint32_t>& movers) {
   const Space& space = sim.space();
   std::string frame(kFrameHeaderBytes + kFrameRecordBytes * movers.size(), '\0');
   char* out = frame.data();
   const uint32_t count = static_cast<uint32_t>(movers.size());
-  const uint64_t tick = sim.tick();
   std::memcpy(out, &kFrameMagic, 4);
   std::memcpy(out + 4, &count, 4);
   std::memcpy(out + 8, &tick, 8);
@@ -557,8 +558,9 @@ std::string InspectJson(const Simulation& sim, uint32_t slot) {
 
 class Server {
  public:
-  Server(Simulation& sim, const ServeOptions& options, std::string web_dir)
+  Server(Simulation& sim, FrameSource& source, const ServeOptions& options, std::string web_dir)
       : sim_(sim),
+        source_(source),
         options_(options),
         access_(options.token.empty() && !IsLoopback(options.host) ? RandomToken() : options.token),
         hub_(Handlers(std::move(web_dir)), kMaxMessageBytes, kMaxBufferedBytes) {}
@@ -581,7 +583,7 @@ class Server {
       options_.on_listening(url);
     } else {
       std::printf("viewer: open %s in a browser (paused at tick %llu; Ctrl-C ends it)\n",
-                  url.c_str(), static_cast<unsigned long long>(sim_.tick()));
+                  url.c_str(), static_cast<unsigned long long>(source_.tick()));
       std::fflush(stdout);
     }
     playing_ = options_.start_playing;
@@ -612,7 +614,8 @@ class Server {
       if (!access_.Allows(request)) {
         return HttpReply{403, "text/plain; charset=utf-8",
                          "forbidden: this viewer needs the token of the URL it printed "
-                         "(http://HOST:PORT/?token=...)\n"};
+                         "(http://HOST:PORT/?token=...)\n",
+                         ""};
       }
       HttpReply reply = ServeFile(request.resource, web_dir, three);
       reply.set_cookie = access_.Cookie();
@@ -659,14 +662,15 @@ class Server {
       if (options_.stop && options_.stop->load()) return 0;
       if (const int signal_number = StopSignal()) return 128 + signal_number;
       if (pending_.load(std::memory_order_acquire) && !ApplyCommands()) return 0;
-      const bool can_step = !sim_.Done() && (playing_ || steps_ > 0);
+      const bool can_step = !source_.Done() && (playing_ || steps_ > 0);
       if (!can_step) {
         if (playing_) SetPlaying(false);  // the run ended while playing
         Wait(Clock::now() + kIdlePoll);
         continue;
       }
       if (playing_ && speed_ > 0) {
-        const double ahead = static_cast<double>(sim_.tick() + 1 - paced_from_tick_) * sim_.dt();
+        const double ahead =
+            static_cast<double>(source_.next_tick() - paced_from_tick_) * sim_.dt();
         const auto due = paced_from_ + std::chrono::duration_cast<Clock::duration>(
                                            std::chrono::duration<double>(ahead / speed_));
         if (Clock::now() < due) {
@@ -674,17 +678,16 @@ class Server {
           continue;
         }
       }
-      sim_.Step();
-      if (options_.after_tick) options_.after_tick(sim_);
+      source_.Step();
       const bool stepped = steps_ > 0;
       if (stepped) --steps_;
       if (hub_.connections() == 0) continue;
       const auto now = Clock::now();
-      if (stepped || sim_.Done() || now >= next_frame_) {
+      if (stepped || source_.Done() || now >= next_frame_) {
         SendFrame();
         next_frame_ = now + frame_interval_;
       }
-      if (stepped || sim_.Done()) SendStatus();
+      if (stepped || source_.Done()) SendStatus();
     }
   }
 
@@ -715,22 +718,22 @@ class Server {
         case Command::kOpen:
           LogInfo("viewer: connection " + std::to_string(c.connection) + " opened");
           ListMovers(sim_.space(), movers_);
-          SendTo(c.connection, SceneJson(sim_, movers_), false);
+          SendTo(c.connection, SceneJson(sim_, movers_, source_.replay()), false);
           SendTo(c.connection, StatusJson(), false);
-          SendTo(c.connection, EncodeFrame(sim_, movers_), true);
+          SendTo(c.connection, EncodeFrame(sim_, source_.tick(), movers_), true);
           break;
         case Command::kClose:
           LogInfo("viewer: connection " + std::to_string(c.connection) + " closed");
           break;
         case Command::kPlay:
-          SetPlaying(!sim_.Done());
+          SetPlaying(!source_.Done());
           break;
         case Command::kPause:
           SetPlaying(false);
           break;
         case Command::kStep:
           SetPlaying(false);
-          if (sim_.Done())
+          if (source_.Done())
             SendStatus();
           else
             ++steps_;
@@ -775,6 +778,8 @@ class Server {
   }
 
   void Inspect(const Command& c) {
+    if (const std::string refused = source_.Refuses("inspect"); !refused.empty())
+      return SendError(c.connection, refused);
     if (const auto slot = Slot(c, "inspect")) SendTo(c.connection, InspectJson(sim_, *slot), false);
   }
 
@@ -782,6 +787,8 @@ class Server {
   // paused; every page gets the new frame and a status saying the run was
   // moved.
   void Move(const Command& c) {
+    if (const std::string refused = source_.Refuses("move"); !refused.empty())
+      return SendError(c.connection, refused);
     const auto slot = Slot(c, "move");
     if (!slot) return;
     const Space& space = sim_.space();
@@ -804,7 +811,7 @@ class Server {
     }
     LogInfo("viewer: connection " + std::to_string(c.connection) + " moved '" + c.id + "' to (" +
             std::to_string(c.x) + ", " + std::to_string(c.y) + ") at tick " +
-            std::to_string(sim_.tick()));
+            std::to_string(source_.tick()));
     moved_ = true;
     if (hub_.connections() > 0) SendFrame();
     SendStatus();
@@ -816,7 +823,7 @@ class Server {
     playing_ = false;
     steps_ = 0;
     try {
-      sim_.Reset(c.seed);
+      source_.Reset(c.seed);
     } catch (const std::exception& e) {
       const std::string problem = std::string("reset failed: ") + e.what();
       LogWarning("viewer: connection " + std::to_string(c.connection) + ": " + problem);
@@ -828,10 +835,12 @@ class Server {
     LogInfo("viewer: connection " + std::to_string(c.connection) + " reset the run (seed " +
             std::to_string(sim_.seed()) + ")");
     ListMovers(sim_.space(), movers_);
-    hub_.Broadcast(std::make_shared<const std::string>(SceneJson(sim_, movers_)), false, false);
+    hub_.Broadcast(std::make_shared<const std::string>(SceneJson(sim_, movers_, source_.replay())),
+                   false, false);
     RestartPacing();
     SendStatus();
-    hub_.Broadcast(std::make_shared<const std::string>(EncodeFrame(sim_, movers_)), true, false);
+    hub_.Broadcast(std::make_shared<const std::string>(EncodeFrame(sim_, source_.tick(), movers_)),
+                   true, false);
   }
 
   void SetPlaying(bool playing) {
@@ -843,14 +852,15 @@ class Server {
   }
   void RestartPacing() {
     paced_from_ = Clock::now();
-    paced_from_tick_ = sim_.tick();
+    paced_from_tick_ = source_.tick();
   }
 
   std::string StatusJson() const {
-    const json status = {{"type", "status"},    {"tick", sim_.tick()},
-                         {"seed", sim_.seed()}, {"playing", playing_},
-                         {"done", sim_.Done()}, {"speed", speed_ > 0 ? json(speed_) : json("max")},
-                         {"moved", moved_}};
+    const json status = {
+        {"type", "status"},       {"tick", source_.tick()},
+        {"seed", sim_.seed()},    {"playing", playing_},
+        {"done", source_.Done()}, {"speed", speed_ > 0 ? json(speed_) : json("max")},
+        {"moved", moved_}};
     return status.dump();
   }
   void SendStatus() {
@@ -864,9 +874,12 @@ class Server {
     ListMovers(sim_.space(), scratch_);
     if (scratch_ != movers_) {
       movers_.swap(scratch_);
-      hub_.Broadcast(std::make_shared<const std::string>(SceneJson(sim_, movers_)), false, false);
+      hub_.Broadcast(
+          std::make_shared<const std::string>(SceneJson(sim_, movers_, source_.replay())), false,
+          false);
     }
-    hub_.Broadcast(std::make_shared<const std::string>(EncodeFrame(sim_, movers_)), true, true);
+    hub_.Broadcast(std::make_shared<const std::string>(EncodeFrame(sim_, source_.tick(), movers_)),
+                   true, true);
     ++frames_sent_;
     frame_seconds_ += std::chrono::duration<double>(Clock::now() - start).count();
   }
@@ -875,6 +888,7 @@ class Server {
   }
 
   Simulation& sim_;
+  FrameSource& source_;
   const ServeOptions& options_;
   const Access access_;  // before hub_: its handlers read it
   WebSocketHub hub_;
@@ -933,7 +947,34 @@ std::string ViewerWebDir() {
   return COLONY_INSTALL_VIEWER_DIR;
 }
 
+namespace {
+
+// The live run: steps the simulation itself.
+class LiveSource : public FrameSource {
+ public:
+  LiveSource(Simulation& sim, const ServeOptions& options) : sim_(sim), options_(options) {}
+  uint64_t tick() const override { return sim_.tick(); }
+  uint64_t next_tick() const override { return sim_.tick() + 1; }
+  bool Done() const override { return sim_.Done(); }
+  void Step() override {
+    sim_.Step();
+    if (options_.after_tick) options_.after_tick(sim_);
+  }
+  void Reset(std::optional<uint64_t> seed) override { sim_.Reset(seed); }
+
+ private:
+  Simulation& sim_;
+  const ServeOptions& options_;
+};
+
+}  // namespace
+
 int ServeRun(Simulation& sim, const ServeOptions& options) {
+  LiveSource live(sim, options);
+  return ServeFrames(sim, live, options);
+}
+
+int ServeFrames(Simulation& sim, FrameSource& source, const ServeOptions& options) {
   const std::string web_dir = options.web_dir.empty() ? ViewerWebDir() : options.web_dir;
   std::error_code ec;
   if (!fs::is_regular_file(fs::path(web_dir) / "index.html", ec)) {
@@ -964,7 +1005,7 @@ int ServeRun(Simulation& sim, const ServeOptions& options) {
                ": anyone who can reach this address and has the URL's token can watch and "
                "control the run");
   }
-  Server server(sim, options, web_dir);
+  Server server(sim, source, options, web_dir);
   return server.Run();
 }
 

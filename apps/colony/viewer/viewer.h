@@ -16,6 +16,7 @@
 #include <atomic>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace colony {
 
@@ -66,5 +67,22 @@ std::string ViewerWebDir();
 // RuntimeFailure when it cannot listen (address in use...) or the page's
 // files are missing, and rethrows what a tick throws.
 int ServeRun(Simulation& sim, const ServeOptions& options);
+
+// Serves a replay of the run recorded in `run_folder` (`colony view`): the
+// scene of its experiment.xml, loaded and never stepped, with the robots'
+// poses of each recorded tick read from its trajectories table
+// (trajectories.csv, .csv.gz or .h5; docs/data-output.md). Play, pause,
+// step (to the next recorded tick), speed and reset go through the
+// recorded ticks; inspect and move are refused. Returns as ServeRun.
+// Throws ConfigError when the folder is not a run folder, has no
+// trajectories, or its table is unreadable, cut short or names robots the
+// experiment does not have; RuntimeFailure when it cannot listen.
+int ServeReplay(const std::string& run_folder, const ServeOptions& options);
+
+// `colony view RUN_FOLDER [--serve [HOST:]PORT]` (default 127.0.0.1:8080):
+// `args` are the words after "view". Returns the exit status: 0, 2 for a
+// bad command line or run folder (the message on standard error), 1 when it
+// cannot serve, 128 + the signal that ended it.
+int ViewCommand(const std::vector<std::string>& args);
 
 }  // namespace colony

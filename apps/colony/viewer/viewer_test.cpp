@@ -10,15 +10,18 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <thread>
 
 #include "actuators/differential_steering/differential_steering.h"
+#include "apps/colony/sweep.h"
 #include "apps/colony/viewer/ws_client.h"
 #include "core/error.h"
 #include "core/registry.h"
@@ -745,18 +748,29 @@ TEST(Viewer, ChromiumShowsTheSelectedRobotsReadings) {
   EXPECT_TRUE(std::filesystem::exists(shot));
 }
 
+// The served program's first line that holds its URL (log lines may come
+// first); "" after `limit` lines or at the end of its output.
+std::string UrlLine(FILE* out, int limit = 20) {
+  char line[512] = {};
+  for (int k = 0; k < limit && std::fgets(line, sizeof line, out); ++k) {
+    if (std::strstr(line, "http://")) return line;
+  }
+  return "";
+}
+
 // The command a user types: `colony run FILE --serve 0` prints the URL,
 // serves the run paused, steps when asked and ends with the page's quit.
 TEST(Viewer, ColonyRunServeServesTheRunUntilThePageEndsIt) {
-  const std::string command = std::string(COLONY_BINARY_DIR "/bin/colony run ") + COLONY_SOURCE_DIR
+  // `timeout`: a failed check leaves no server behind holding ctest's output.
+  const std::string command = std::string("timeout 120 " COLONY_BINARY_DIR "/bin/colony run ") +
+                              COLONY_SOURCE_DIR
                               "/experiments/diffusion.xml --set "
                               "arena.distribute.entity.quantity=7 --threads 1 --serve 0 2>&1";
   FILE* out = popen(command.c_str(), "r");
   ASSERT_NE(out, nullptr);
   char line[512] = {};
-  ASSERT_NE(std::fgets(line, sizeof line, out), nullptr);
   std::smatch url;
-  const std::string first = line;
+  const std::string first = UrlLine(out);
   ASSERT_TRUE(std::regex_search(first, url, std::regex("http://127\\.0\\.0\\.1:([0-9]+)/")))
       << first;
   EXPECT_NE(first.find("7 robots, paused at tick 0"), std::string::npos) << first;
@@ -791,6 +805,277 @@ TEST(Viewer, ColonyRunServeRefusesABadAddressAndARunFolder) {
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("--serve and --out do not go together"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists("/tmp/colony_serve_out"));
+}
+
+// --- Replays (colony view) -------------------------------------------------
+
+namespace fs = std::filesystem;
+
+// Folders removed when the test process ends.
+struct TempFolders {
+  std::map<std::string, fs::path> folders;
+  ~TempFolders() {
+    for (const auto& [name, dir] : folders) fs::remove_all(dir);
+  }
+};
+TempFolders recorded, bad_folders;
+
+// A run of 7 diffusing robots for 3 s (30 ticks) recorded with `colony run`
+// every 5 ticks, as CSV or HDF5; recorded once per format and process.
+fs::path RecordedRun(const std::string& format) {
+  if (recorded.folders.count(format)) return recorded.folders[format];
+  const fs::path dir = testing::FreshTempDir("colony_view", format);
+  const auto r = testing::RunCommand(
+      std::string(COLONY_BINARY_DIR "/bin/colony run ") + COLONY_SOURCE_DIR +
+      "/experiments/diffusion.xml --quiet --threads 1 --out " + dir.string() +
+      " --set arena.distribute.entity.quantity=7 --set framework.experiment.length=3"
+      " --set output.trajectories_every=5 --set output.format=" +
+      format);
+  EXPECT_EQ(r.status, 0) << r.output;
+  recorded.folders[format] = dir;
+  return dir;
+}
+
+// A replay served on a free port in a thread, for as long as the object lives.
+class Replayed {
+ public:
+  explicit Replayed(const fs::path& folder) {
+    std::promise<std::string> url;
+    auto listening = url.get_future();
+    ServeOptions options;
+    options.stop = &stop_;
+    options.on_listening = [&url](const std::string& u) { url.set_value(u); };
+    thread_ = std::thread([this, folder, options] {
+      try {
+        ServeReplay(folder.string(), options);
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << e.what();
+      }
+    });
+    if (listening.wait_for(20s) == std::future_status::ready)
+      ws_ = "ws" + listening.get().substr(4);
+  }
+  ~Replayed() {
+    stop_ = true;
+    thread_.join();
+  }
+  const std::string& ws() const { return ws_; }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+  std::string ws_;
+};
+
+// The trajectories.csv rows of `tick`: id -> (x, y, z, yaw).
+std::map<std::string, std::array<double, 4>> CsvPoses(const fs::path& dir, uint64_t tick) {
+  const auto csv = sweep::ReadCsvFile((dir / "trajectories.csv").string());
+  const auto& header = csv.records.at(0);
+  auto at = [&](const char* name) {
+    return std::find(header.begin(), header.end(), name) - header.begin();
+  };
+  std::map<std::string, std::array<double, 4>> poses;
+  for (size_t r = 1; r < csv.records.size(); ++r) {
+    const auto& row = csv.records[r];
+    if (std::stoull(row[at("tick")]) != tick) continue;
+    poses[row[at("id")]] = {std::stod(row[at("x")]), std::stod(row[at("y")]),
+                            std::stod(row[at("z")]), std::stod(row[at("yaw")])};
+  }
+  return poses;
+}
+
+// Connects to a replay, steps to recorded tick 15 (three steps of 5 ticks)
+// and checks the frame against the CSV rows of tick 15 and the live run.
+void CheckReplayAtTick15(const fs::path& dir) {
+  Replayed replay(dir);
+  ASSERT_FALSE(replay.ws().empty());
+  WebSocketClient client;
+  Connect(client, replay.ws());
+  const auto scene = Next(client, "scene");
+  ASSERT_TRUE(scene);
+  const json s = json::parse(scene->payload);
+  EXPECT_TRUE(s["replay"].get<bool>());
+  ASSERT_EQ(s["movers"].size(), 7u);
+  const auto status = Next(client, "status");
+  ASSERT_TRUE(status);
+  EXPECT_EQ(json::parse(status->payload)["tick"], 0);
+  ASSERT_TRUE(Next(client, "frame"));
+  for (int i = 0; i < 3; ++i) client.Send(R"({"cmd":"step"})");
+  std::optional<Frame> frame;
+  while (auto m = Next(client, "frame")) {
+    frame = Decode(m->payload);
+    if (frame->tick >= 15) break;
+  }
+  ASSERT_TRUE(frame);
+  ASSERT_EQ(frame->tick, 15u);
+  ASSERT_EQ(frame->records.size(), 7u);
+
+  // The recorded rows of tick 15, and the live run stepped to tick 15.
+  const auto rows = CsvPoses(RecordedRun("csv"), 15);
+  ASSERT_EQ(rows.size(), 7u);
+  ExperimentOptions options;
+  options.file = (dir / "experiment.xml").string();
+  auto live = Simulation::Load(options);
+  for (int t = 0; t < 15; ++t) live->Step();
+  for (size_t i = 0; i < 7; ++i) {
+    const std::string id = s["movers"][i]["id"];
+    const auto& r = frame->records[i];
+    ASSERT_TRUE(rows.count(id)) << id;
+    const auto& row = rows.at(id);
+    EXPECT_EQ(r.x, static_cast<float>(row[0])) << id;
+    EXPECT_EQ(r.y, static_cast<float>(row[1])) << id;
+    EXPECT_EQ(r.z, static_cast<float>(row[2])) << id;
+    EXPECT_NEAR(r.yaw, row[3], 1e-6) << id;
+    const Vec3 p = testing::PositionOf(*live, id);
+    EXPECT_EQ(r.x, static_cast<float>(p.x())) << id;
+    EXPECT_EQ(r.y, static_cast<float>(p.y())) << id;
+  }
+
+  // Inspect and move are refused, saying why; the replay stays at tick 15.
+  client.Send(R"({"cmd":"inspect","id":")" + s["movers"][0]["id"].get<std::string>() + R"("})");
+  auto error = Next(client, "error");
+  ASSERT_TRUE(error);
+  EXPECT_NE(json::parse(error->payload)["message"].get<std::string>().find("replay"),
+            std::string::npos)
+      << error->payload;
+  client.Send(R"({"cmd":"move","id":")" + s["movers"][0]["id"].get<std::string>() +
+              R"(","x":0,"y":0})");
+  error = Next(client, "error");
+  ASSERT_TRUE(error);
+  EXPECT_NE(json::parse(error->payload)["message"].get<std::string>().find("move"),
+            std::string::npos);
+
+  // Reset goes back to tick 0; play runs to the last recorded tick (30).
+  client.Send(R"({"cmd":"reset"})");
+  client.Send(R"({"cmd":"speed","value":"max"})");
+  client.Send(R"({"cmd":"play"})");
+  bool done = false;
+  while (auto m = Next(client, "status")) {
+    const json st = json::parse(m->payload);
+    if (st["done"].get<bool>()) {
+      EXPECT_EQ(st["tick"], 30);
+      done = true;
+      break;
+    }
+  }
+  EXPECT_TRUE(done);
+}
+
+TEST(Viewer, ReplayOfACsvRecordShowsTheRunsPositionsAtATick) {
+  CheckReplayAtTick15(RecordedRun("csv"));
+}
+
+TEST(Viewer, ReplayOfAnHdf5RecordShowsTheRunsPositionsAtATick) {
+  CheckReplayAtTick15(RecordedRun("hdf5"));
+}
+
+// The error ServeReplay gives for `folder` ("" if none); it must fail
+// before serving (a replay that starts is stopped at once).
+std::string ReplayError(const fs::path& folder) {
+  const std::atomic<bool> stop{true};
+  ServeOptions options;
+  options.stop = &stop;
+  options.on_listening = [](const std::string&) {};
+  try {
+    ServeReplay(folder.string(), options);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A copy of the CSV run folder with trajectories.csv replaced by `text`
+// (or none when `name` is empty), as file `name`.
+fs::path BadFolder(const std::string& tag, const std::string& name, const std::string& text) {
+  const fs::path dir = testing::FreshTempDir("colony_view_bad", tag);
+  fs::create_directories(dir);
+  bad_folders.folders[tag] = dir;
+  fs::copy_file(RecordedRun("csv") / "experiment.xml", dir / "experiment.xml");
+  if (!name.empty()) std::ofstream(dir / name, std::ios::binary) << text;
+  return dir;
+}
+
+TEST(Viewer, ReplayRefusesWhatIsNotAWholeRecordOfTheRun) {
+  const fs::path csv = RecordedRun("csv");
+  const std::string rows = testing::ReadFile(csv / "trajectories.csv");
+  ASSERT_GT(rows.size(), 100u);
+  EXPECT_TRUE(testing::Mentions(ReplayError("/nonexistent/run"), {"is not a folder"}));
+  EXPECT_TRUE(testing::Mentions(ReplayError(COLONY_SOURCE_DIR "/docs"), {"not a run folder"}));
+  EXPECT_TRUE(testing::Mentions(ReplayError(BadFolder("none", "", "")),
+                                {"no trajectories", "trajectories_every"}));
+  // Cut in the middle of a row.
+  EXPECT_TRUE(testing::Mentions(
+      ReplayError(BadFolder("cut", "trajectories.csv", rows.substr(0, rows.size() - 7))),
+      {"cut short"}));
+  // A header only; a number that is not one; a robot the experiment lacks.
+  EXPECT_TRUE(testing::Mentions(
+      ReplayError(BadFolder("empty", "trajectories.csv", rows.substr(0, rows.find('\n') + 1))),
+      {"no rows"}));
+  std::string garbled = rows;
+  garbled.replace(garbled.rfind('\n', garbled.size() - 2) + 1, 2, "30,3,x,y,zz");
+  EXPECT_TRUE(
+      testing::Mentions(ReplayError(BadFolder("garbled", "trajectories.csv", garbled)), {"line"}));
+  std::string ghost = rows;
+  const size_t last = ghost.rfind('\n', ghost.size() - 2) + 1;
+  std::string row = ghost.substr(last);
+  const size_t id = row.find(',', row.find(',') + 1) + 1;
+  row.replace(id, row.find(',', id) - id, "ghost");
+  ghost += row;
+  EXPECT_TRUE(testing::Mentions(ReplayError(BadFolder("ghost", "trajectories.csv", ghost)),
+                                {"robot 'ghost'", "not in the run's experiment.xml"}));
+  // Damaged gzip and HDF5 files.
+  EXPECT_TRUE(testing::Mentions(
+      ReplayError(BadFolder("gz", "trajectories.csv.gz", std::string("\x1f\x8b\x08\0", 4))),
+      {"trajectories.csv.gz"}));
+  const std::string h5 = testing::ReadFile(RecordedRun("hdf5") / "trajectories.h5");
+  ASSERT_GT(h5.size(), 1000u);
+  EXPECT_TRUE(testing::Mentions(
+      ReplayError(BadFolder("h5", "trajectories.h5", h5.substr(0, h5.size() / 2))),
+      {"trajectories.h5"}));
+  EXPECT_TRUE(testing::Mentions(ReplayError(BadFolder("noth5", "trajectories.h5", rows)),
+                                {"not a readable HDF5 file"}));
+  // The command: exit status 2 for each, 2 for a bad command line.
+  EXPECT_EQ(ViewCommand({BadFolder("none2", "", "").string(), "--serve", "0"}), 2);
+  EXPECT_EQ(ViewCommand({csv.string(), "--serve", "70000"}), 2);
+  EXPECT_EQ(ViewCommand({}), 2);
+  EXPECT_EQ(ViewCommand({csv.string(), "--bogus"}), 2);
+}
+
+// The command a user types: `colony view RUN_FOLDER --serve 0` serves the
+// recorded run as a replay until the page ends it.
+TEST(Viewer, ColonyViewServesAReplayOfARecordedRun) {
+  const std::string folder = COLONY_BINARY_DIR "/tests/viewer/colony_view_run";
+  std::filesystem::remove_all(folder);
+  const std::string colony = COLONY_BINARY_DIR "/bin/colony ";
+  const auto recorded = testing::RunCommand(
+      colony +
+      "run " COLONY_SOURCE_DIR
+      "/experiments/diffusion.xml --set "
+      "arena.distribute.entity.quantity=5 --set framework.experiment.length=2 --set "
+      "output.trajectories_every=5 --quiet --out " +
+      folder);
+  ASSERT_EQ(recorded.status, 0) << recorded.output;
+  // `timeout`: a failed check leaves no server behind holding ctest's output.
+  FILE* out = popen(("timeout 120 " + colony + "view " + folder + " --serve 0 2>&1").c_str(), "r");
+  ASSERT_NE(out, nullptr);
+  char line[512] = {};
+  const std::string first = UrlLine(out);
+  std::smatch url;
+  ASSERT_TRUE(std::regex_search(first, url, std::regex("http://127\\.0\\.0\\.1:([0-9]+)/")))
+      << first;
+  WebSocketClient client;
+  Connect(client, "ws://127.0.0.1:" + url[1].str() + "/");
+  const auto scene = Next(client, "scene");
+  ASSERT_TRUE(scene);
+  const json j = json::parse(scene->payload);
+  EXPECT_EQ(j["replay"], true);
+  EXPECT_EQ(j["movers"].size(), 5u);
+  client.Send(R"({"cmd":"quit"})");
+  std::string rest;
+  while (std::fgets(line, sizeof line, out)) rest += line;
+  const int status = pclose(out);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << rest;
+  std::filesystem::remove_all(folder);
 }
 
 }  // namespace

@@ -422,7 +422,7 @@ function send(command) {
 function updateBar() {
   const seconds = scene ? (tick * scene.dt).toFixed(1) : '0';
   document.getElementById('clock').textContent =
-    `tick ${tick}  t = ${seconds} s  ${done ? '(done)' : playing ? '' : '(paused)'}${moved ? ' (moved)' : ''}`;
+    `tick ${tick}  t = ${seconds} s  ${done ? '(done)' : playing ? '' : '(paused)'}${moved ? ' (moved)' : ''}${scene && scene.replay ? ' (replay)' : ''}`;
   document.getElementById('play').innerHTML = playing ? '&#10074;&#10074; Pause' : '&#9654; Play';
   document.getElementById('play').disabled = done;
   document.getElementById('step').disabled = done;

@@ -1,0 +1,434 @@
+// `colony view RUN_FOLDER`: a replay of a recorded run, served to the live
+// viewer's page. The scene is the folder's experiment.xml, loaded and never
+// stepped; at each recorded tick the robots' poses from its trajectories
+// table are put into that simulation's space, and the server (viewer.cpp)
+// draws the scene and frames from it as it does for a live run.
+#include <hdf5.h>
+#include <zlib.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+
+#include "apps/colony/command_line.h"
+#include "apps/colony/sweep.h"
+#include "apps/colony/viewer/frame_source.h"
+#include "apps/colony/viewer/viewer.h"
+#include "core/crash_report.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "core/math.h"
+#include "core/simulation.h"
+#include "core/trajectories.h"
+
+namespace colony {
+namespace {
+
+namespace fs = std::filesystem;
+
+// One robot's recorded pose (the trajectories table's columns).
+struct RecordedPose {
+  uint64_t tick = 0;
+  std::string id;
+  double x = 0, y = 0, z = 0, yaw = 0, pitch = 0, roll = 0;
+};
+
+// The table read into poses, in the file's order.
+struct RecordedTable {
+  std::vector<RecordedPose> rows;
+  bool three_d = false;  // pitch and roll columns
+};
+
+[[noreturn]] void Bad(const std::string& file, const std::string& problem) {
+  throw ConfigError(file + ": " + problem);
+}
+
+// --- CSV (trajectories.csv, trajectories.csv.gz) ----------------------------
+
+std::string ReadGzip(const std::string& path) {
+  gzFile in = gzopen(path.c_str(), "rb");
+  if (!in) Bad(path, std::string("cannot read it (") + std::strerror(errno) + ")");
+  std::string text;
+  char buffer[1 << 16];
+  int n = 0;
+  while ((n = gzread(in, buffer, sizeof buffer)) > 0) text.append(buffer, n);
+  int code = Z_OK;
+  const std::string problem = n < 0 || !gzeof(in) ? gzerror(in, &code) : "";
+  gzclose(in);
+  if (n < 0 || !problem.empty()) Bad(path, "not a whole gzip file (" + problem + ")");
+  return text;
+}
+
+// The number in CSV field `text`; `what` names it for the message.
+double CsvNumber(const std::string& path, size_t line, const std::string& column,
+                 const std::string& text) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(value)) {
+    Bad(path,
+        "line " + std::to_string(line) + ": " + column + " '" + text + "' is not a finite number");
+  }
+  return value;
+}
+
+RecordedTable ReadCsvTable(const std::string& path, bool gzip) {
+  sweep::CsvTable csv;
+  try {
+    csv = gzip ? sweep::ParseCsv(ReadGzip(path), path) : sweep::ReadCsvFile(path);
+  } catch (const sweep::UsageError& e) {
+    throw ConfigError(e.what());
+  }
+  if (csv.cut_line != 0) {
+    Bad(path, "cut short at line " + std::to_string(csv.cut_line) +
+                  " (its last row has no line end: a run killed while writing?)");
+  }
+  if (csv.records.empty()) Bad(path, "empty: no header");
+  const std::vector<std::string>& header = csv.records[0];
+  auto column = [&](const std::string& name, bool needed) -> int {
+    for (size_t i = 0; i < header.size(); ++i) {
+      if (header[i] == name) return static_cast<int>(i);
+    }
+    if (needed) {
+      Bad(path, "no column '" + name +
+                    "': not a trajectories table (tick, time, id, type, x, y, z, yaw...)");
+    }
+    return -1;
+  };
+  const int tick = column("tick", true), id = column("id", true), x = column("x", true),
+            y = column("y", true), z = column("z", true), yaw = column("yaw", true),
+            pitch = column("pitch", false), roll = column("roll", false);
+  RecordedTable table;
+  table.three_d = pitch >= 0 && roll >= 0;
+  for (size_t r = 1; r < csv.records.size(); ++r) {
+    const auto& record = csv.records[r];
+    const size_t line = r + 1;
+    if (record.size() != header.size()) {
+      Bad(path, "line " + std::to_string(line) + " has " + std::to_string(record.size()) +
+                    " fields, the header " + std::to_string(header.size()));
+    }
+    RecordedPose pose;
+    const std::string& t = record[tick];
+    if (t.empty() || t.size() > 19 || t.find_first_not_of("0123456789") != std::string::npos) {
+      Bad(path, "line " + std::to_string(line) + ": tick '" + t + "' is not a whole number");
+    }
+    pose.tick = std::stoull(t);
+    pose.id = record[id];
+    pose.x = CsvNumber(path, line, "x", record[x]);
+    pose.y = CsvNumber(path, line, "y", record[y]);
+    pose.z = CsvNumber(path, line, "z", record[z]);
+    pose.yaw = CsvNumber(path, line, "yaw", record[yaw]);
+    if (table.three_d) {
+      pose.pitch = CsvNumber(path, line, "pitch", record[pitch]);
+      pose.roll = CsvNumber(path, line, "roll", record[roll]);
+    }
+    table.rows.push_back(std::move(pose));
+  }
+  return table;
+}
+
+// --- HDF5 (trajectories.h5) ---------------------------------------------------
+
+// An HDF5 identifier closed when it goes.
+class H5Handle {
+ public:
+  H5Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  ~H5Handle() {
+    if (id_ >= 0) close_(id_);
+  }
+  H5Handle(const H5Handle&) = delete;
+  H5Handle& operator=(const H5Handle&) = delete;
+  hid_t get() const { return id_; }
+  bool ok() const { return id_ >= 0; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+// HDF5's own error printing, off while reading (its errors become ours).
+class QuietHdf5 {
+ public:
+  QuietHdf5() {
+    H5Eget_auto2(H5E_DEFAULT, &function_, &data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, function_, data_); }
+
+ private:
+  H5E_auto2_t function_ = nullptr;
+  void* data_ = nullptr;
+};
+
+// The numeric columns read at once, as a compound of the fields named.
+struct H5Numbers {
+  int64_t tick;
+  double x, y, z, yaw, pitch, roll;
+};
+
+RecordedTable ReadHdf5Table(const std::string& path) {
+  QuietHdf5 quiet;
+  const H5Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!file.ok()) Bad(path, "not a readable HDF5 file (damaged or cut short?)");
+  const H5Handle dataset(H5Dopen2(file.get(), "trajectories", H5P_DEFAULT), H5Dclose);
+  if (!dataset.ok()) Bad(path, "no dataset 'trajectories' (docs/data-output.md, HDF5 layout)");
+  const H5Handle type(H5Dget_type(dataset.get()), H5Tclose);
+  const H5Handle space(H5Dget_space(dataset.get()), H5Sclose);
+  if (!type.ok() || !space.ok() || H5Tget_class(type.get()) != H5T_COMPOUND ||
+      H5Sget_simple_extent_ndims(space.get()) != 1) {
+    Bad(path, "dataset 'trajectories' is not a one-dimensional table of a compound type");
+  }
+  for (const char* name : {"tick", "id", "x", "y", "z", "yaw"}) {
+    if (H5Tget_member_index(type.get(), name) < 0) {
+      Bad(path, std::string("dataset 'trajectories' has no column '") + name + "'");
+    }
+  }
+  RecordedTable table;
+  table.three_d =
+      H5Tget_member_index(type.get(), "pitch") >= 0 && H5Tget_member_index(type.get(), "roll") >= 0;
+  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
+  if (count < 0) Bad(path, "cannot read the number of rows");
+  const size_t n = static_cast<size_t>(count);
+
+  // The numbers: a memory compound of the columns wanted, converted by HDF5.
+  std::vector<H5Numbers> numbers(n);
+  const H5Handle memory(H5Tcreate(H5T_COMPOUND, sizeof(H5Numbers)), H5Tclose);
+  H5Tinsert(memory.get(), "tick", HOFFSET(H5Numbers, tick), H5T_NATIVE_INT64);
+  H5Tinsert(memory.get(), "x", HOFFSET(H5Numbers, x), H5T_NATIVE_DOUBLE);
+  H5Tinsert(memory.get(), "y", HOFFSET(H5Numbers, y), H5T_NATIVE_DOUBLE);
+  H5Tinsert(memory.get(), "z", HOFFSET(H5Numbers, z), H5T_NATIVE_DOUBLE);
+  H5Tinsert(memory.get(), "yaw", HOFFSET(H5Numbers, yaw), H5T_NATIVE_DOUBLE);
+  if (table.three_d) {
+    H5Tinsert(memory.get(), "pitch", HOFFSET(H5Numbers, pitch), H5T_NATIVE_DOUBLE);
+    H5Tinsert(memory.get(), "roll", HOFFSET(H5Numbers, roll), H5T_NATIVE_DOUBLE);
+  }
+  if (n > 0 &&
+      H5Dread(dataset.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, numbers.data()) < 0) {
+    Bad(path, "cannot read the rows' tick, x, y, z, yaw (damaged or cut short?)");
+  }
+
+  // The ids, in their own type (fixed width as written, or variable length).
+  const H5Handle id_type(H5Tget_member_type(type.get(), H5Tget_member_index(type.get(), "id")),
+                         H5Tclose);
+  if (H5Tget_class(id_type.get()) != H5T_STRING) Bad(path, "column 'id' is not text");
+  const bool variable = H5Tis_variable_str(id_type.get()) > 0;
+  const size_t width = variable ? sizeof(char*) : H5Tget_size(id_type.get());
+  const H5Handle id_memory(H5Tcreate(H5T_COMPOUND, width), H5Tclose);
+  H5Tinsert(id_memory.get(), "id", 0, id_type.get());
+  std::vector<char> ids(n * width);
+  if (n > 0 &&
+      H5Dread(dataset.get(), id_memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, ids.data()) < 0) {
+    Bad(path, "cannot read the rows' ids (damaged or cut short?)");
+  }
+
+  table.rows.resize(n);
+  for (size_t r = 0; r < n; ++r) {
+    const H5Numbers& v = numbers[r];
+    RecordedPose& pose = table.rows[r];
+    if (v.tick < 0) Bad(path, "row " + std::to_string(r) + ": tick " + std::to_string(v.tick));
+    pose.tick = static_cast<uint64_t>(v.tick);
+    pose.x = v.x;
+    pose.y = v.y;
+    pose.z = v.z;
+    pose.yaw = v.yaw;
+    if (table.three_d) {
+      pose.pitch = v.pitch;
+      pose.roll = v.roll;
+    }
+    const char* cell = ids.data() + r * width;
+    if (variable) {
+      char* text = nullptr;
+      std::memcpy(&text, cell, sizeof text);
+      pose.id = text ? text : "";
+    } else {
+      pose.id.assign(cell, strnlen(cell, width));
+    }
+  }
+  if (variable && n > 0) {
+    H5Dvlen_reclaim(id_memory.get(), space.get(), H5P_DEFAULT, ids.data());
+  }
+  for (size_t r = 0; r < n; ++r) {
+    const RecordedPose& p = table.rows[r];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) ||
+        !std::isfinite(p.yaw) || !std::isfinite(p.pitch) || !std::isfinite(p.roll)) {
+      Bad(path, "row " + std::to_string(r) + " (robot '" + p.id + "', tick " +
+                    std::to_string(p.tick) + "): a pose that is not finite");
+    }
+  }
+  return table;
+}
+
+// --- The replay -------------------------------------------------------------
+
+// The recorded ticks of a run, shown by putting their poses into `sim`'s
+// space (never stepped).
+class ReplaySource : public FrameSource {
+ public:
+  // Checks `table` against `sim`'s robots; throws ConfigError naming `file`.
+  ReplaySource(Simulation& sim, const RecordedTable& table, const std::string& file) : sim_(sim) {
+    if (table.rows.empty()) Bad(file, "holds no rows (a run that recorded nothing?)");
+    const Space& space = sim.space();
+    for (size_t r = 0; r < table.rows.size(); ++r) {
+      const RecordedPose& p = table.rows[r];
+      const EntityHandle h = space.Find(p.id);
+      if (!h.valid() || !space.IsAlive(h) || !space.movable(h.index)) {
+        Bad(file, "robot '" + p.id + "' (tick " + std::to_string(p.tick) +
+                      ") is not in the run's experiment.xml: the table is not this run's, or "
+                      "the robot was added while running (replays show the experiment's "
+                      "robots only)");
+      }
+      if (records_.empty() || records_.back().tick != p.tick) {
+        if (!records_.empty() && p.tick < records_.back().tick) {
+          Bad(file, "tick " + std::to_string(p.tick) + " comes after tick " +
+                        std::to_string(records_.back().tick) + ": ticks must not go back");
+        }
+        records_.push_back({p.tick, r, r});
+      }
+      ++records_.back().end;
+      Pose pose = space.pose(h.index);
+      pose.position = Vec3(p.x, p.y, p.z);
+      pose.orientation = table.three_d ? FromEulerZYX(p.yaw, p.pitch, p.roll) : FromYaw(p.yaw);
+      poses_.push_back({h.index, pose});
+    }
+    Show(0);
+  }
+
+  uint64_t tick() const override { return records_[shown_].tick; }
+  uint64_t next_tick() const override {
+    return records_[std::min(shown_ + 1, records_.size() - 1)].tick;
+  }
+  bool Done() const override { return shown_ + 1 >= records_.size(); }
+  void Step() override { Show(shown_ + 1); }
+  void Reset(std::optional<uint64_t> seed) override {
+    if (seed && *seed != sim_.seed()) {
+      throw RuntimeFailure("a replay shows the recorded run (seed " + std::to_string(sim_.seed()) +
+                           "); to run with seed " + std::to_string(*seed) +
+                           ", serve the experiment live: colony run " + sim_.file() +
+                           " --serve PORT --seed " + std::to_string(*seed));
+    }
+    Show(0);
+  }
+  std::string Refuses(const std::string& command) const override {
+    return command +
+           ": this is a replay of recorded poses (colony view); the run's sensors, "
+           "controllers and physics are not there to " +
+           (command == "move" ? "move robots in" : "inspect") +
+           ": serve the experiment live with colony run " + sim_.file() + " --serve PORT";
+  }
+  bool replay() const override { return true; }
+
+ private:
+  struct Record {
+    uint64_t tick;
+    size_t begin, end;  // its rows in poses_
+  };
+  void Show(size_t record) {
+    shown_ = record;
+    Space& space = sim_.space();
+    for (size_t i = records_[record].begin; i < records_[record].end; ++i) {
+      space.pose(poses_[i].first) = poses_[i].second;
+    }
+  }
+
+  Simulation& sim_;
+  std::vector<Record> records_;
+  std::vector<std::pair<uint32_t, Pose>> poses_;  // per row: the slot and its pose
+  size_t shown_ = 0;
+};
+
+// The folder's trajectories file: the one its experiment names, else any.
+std::string TrajectoriesFile(const fs::path& folder, const OutputConfig& output) {
+  std::error_code ec;
+  const fs::path named = folder / Trajectories::FileName(output);
+  if (fs::is_regular_file(named, ec)) return named.string();
+  for (const char* name : {"trajectories.h5", "trajectories.csv", "trajectories.csv.gz"}) {
+    if (fs::is_regular_file(folder / name, ec)) return (folder / name).string();
+  }
+  throw ConfigError(folder.string() +
+                    " has no trajectories (trajectories.csv, trajectories.csv.gz or "
+                    "trajectories.h5) to replay: record them with <output "
+                    "trajectories_every=\"K\"/> in the experiment, or colony run FILE --set "
+                    "output.trajectories_every=K");
+}
+
+}  // namespace
+
+int ServeReplay(const std::string& run_folder, const ServeOptions& options) {
+  const fs::path folder(run_folder);
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) throw ConfigError(run_folder + " is not a folder");
+  if (!fs::is_regular_file(folder / "experiment.xml", ec)) {
+    throw ConfigError(run_folder +
+                      " is not a run folder: it has no experiment.xml (colony run writes one "
+                      "into every run folder)");
+  }
+  ExperimentOptions load;
+  load.file = (folder / "experiment.xml").string();
+  const auto sim = Simulation::Load(load);
+  const std::string file = TrajectoriesFile(folder, sim->output());
+  const bool h5 = file.size() > 3 && file.compare(file.size() - 3, 3, ".h5") == 0;
+  const bool gzip = file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0;
+  ReplaySource replay(*sim, h5 ? ReadHdf5Table(file) : ReadCsvTable(file, gzip), file);
+  LogInfo("viewer: replaying " + file);
+  return ServeFrames(*sim, replay, options);
+}
+
+int ViewCommand(const std::vector<std::string>& args) {
+  CLI::App app{
+      "serves a replay of a finished run from its recorded trajectories to the live "
+      "viewer's page",
+      "colony view"};
+  cli::SetUpHelp(app);
+  app.allow_extras();
+  std::string folder, serve = "8080";
+  app.add_option("RUN_FOLDER", folder,
+                 "a run folder (colony run --out) with experiment.xml and trajectories.csv, "
+                 "trajectories.csv.gz or trajectories.h5 (<output trajectories_every=\"K\"/>)");
+  app.add_option("--serve", serve,
+                 "where the viewer listens (default 8080, on 127.0.0.1; another address needs "
+                 "the printed URL's token)")
+      ->type_name("[HOST:]PORT");
+  app.footer(
+      "Example:\n"
+      "  colony run experiments/diffusion.xml --out runs/d --set output.trajectories_every=5\n"
+      "  colony view runs/d\n"
+      "Exit status: 0 ended from the page, 2 bad input, 1 cannot serve.");
+  try {
+    try {
+      if (!cli::Parse(app, args)) return 0;
+      if (!app.remaining().empty()) {
+        throw cli::UsageError("one run folder only, not also '" + app.remaining()[0] + "'");
+      }
+      if (folder.empty()) throw cli::UsageError("colony view needs a run folder");
+    } catch (const cli::UsageError& e) {
+      std::fprintf(stderr, "colony: %s\nrun 'colony view --help' for usage\n", e.what());
+      return 2;
+    }
+    ServeOptions options;
+    try {
+      ParseServeAddress(serve, options);
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "colony: --serve %s\nrun 'colony view --help' for usage\n", e.what());
+      return 2;
+    }
+    InstallStopHandlers();
+    options.on_listening = [&folder](const std::string& url) {
+      std::printf("viewer: open %s in a browser (replay of %s, paused; Ctrl-C ends it)\n",
+                  url.c_str(), folder.c_str());
+      std::fflush(stdout);
+    };
+    return ServeReplay(folder, options);
+  } catch (const ConfigError& e) {
+    for (const auto& d : e.diagnostics()) LogError(d.ToString());
+    return 2;
+  } catch (const std::exception& e) {
+    LogError(std::string("view failed: ") + e.what());
+    return 1;
+  }
+}
+
+}  // namespace colony
