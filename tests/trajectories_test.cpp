@@ -12,6 +12,7 @@
 #include <map>
 
 #include "actuators/differential_steering/differential_steering.h"
+#include "apps/colony/sweep.h"
 #include "core/output.h"
 #include "core/table_writer.h"
 #include "tests/test_util.h"
@@ -125,39 +126,10 @@ Finished RunInto(const std::string& xml, const fs::path& dir) {
   return run;
 }
 
-// RFC 4180 CSV: rows of fields (quoted fields may hold commas, quotes
-// doubled, and line breaks).
+// RFC 4180 CSV: rows of fields, read with colony sweep's reader
+// (apps/colony/sweep.h).
 std::vector<std::vector<std::string>> ParseCsv(const std::string& text) {
-  std::vector<std::vector<std::string>> rows;
-  std::vector<std::string> row;
-  std::string field;
-  bool quoted = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
-        field += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        field += c;
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      row.push_back(field);
-      field.clear();
-    } else if (c == '\n') {
-      row.push_back(field);
-      field.clear();
-      rows.push_back(row);
-      row.clear();
-    } else {
-      field += c;
-    }
-  }
-  return rows;
+  return sweep::ParseCsv(text, "trajectories.csv").records;
 }
 
 const std::vector<std::string> kHeader = {"tick", "time", "id",    "type",  "x",        "y",
