@@ -22,8 +22,14 @@ endif()
 if(colony_sanitize_flags)
   add_compile_options(${colony_sanitize_flags})
   add_link_options(${colony_sanitize_flags})
-  # Sanitized code is slow; keep some optimisation but full stacks.
-  add_compile_options(-g)
+  # Sanitized code is slow; keep some optimisation but full stacks. Line
+  # tables are all a sanitizer's stack trace needs (file:line per frame);
+  # full debug info costs compile and link time for nothing here.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    add_compile_options(-gline-tables-only)
+  else()
+    add_compile_options(-g1)
+  endif()
 endif()
 
 if(COLONY_BUILD_FUZZERS)

@@ -23,7 +23,11 @@ stage() { echo; echo "=== $* ($(date +%H:%M:%S))"; }
 start=$SECONDS
 
 stage "AddressSanitizer + UndefinedBehaviorSanitizer: build"
-CC=clang CXX=clang++ cmake -S . -B "$ASAN_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCOLONY_SANITIZE=address \
+# -O1, as the sanitizers' authors advise: a third less compile time than -O2, and no frames inlined
+# away from the reports.
+SANITIZE_FLAGS=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -DNDEBUG"
+                "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -DNDEBUG")
+CC=clang CXX=clang++ cmake -S . -B "$ASAN_DIR" "${SANITIZE_FLAGS[@]}" -DCOLONY_SANITIZE=address \
   -DCOLONY_BUILD_FUZZERS=ON -DCOLONY_BUILD_BENCHMARKS=OFF -DCOLONY_WITH_PYTHON=OFF
 cmake --build "$ASAN_DIR" -j2
 
@@ -56,7 +60,7 @@ TSAN_TARGETS=(core_test kinematics2d_test dynamics2d_test dynamics3d_test media_
               swarm_experiments_test rope_launcher_test handbot_gripper_proximity_test light_scanner_battery_test
               manipulator_sensor_test handbot_shelf_test pointmass3d_test eyebot_dynamics3d_test eyebot_vision_test
               eyebot_guidance_test)
-CC=clang CXX=clang++ cmake -S . -B "$TSAN_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCOLONY_SANITIZE=thread \
+CC=clang CXX=clang++ cmake -S . -B "$TSAN_DIR" "${SANITIZE_FLAGS[@]}" -DCOLONY_SANITIZE=thread \
   -DCOLONY_BUILD_BENCHMARKS=OFF -DCOLONY_WITH_OSMESA=OFF -DCOLONY_WITH_PYTHON=OFF
 cmake --build "$TSAN_DIR" -j2 --target "${TSAN_TARGETS[@]}"
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$SUPP/tsan.supp"
