@@ -23,12 +23,18 @@ class GripperSystem : public ActuatorSystem {
   void Configure(const ConfigNode& node) override {
     turret_speed_ = node.GetDouble("turret_speed", 1.0, Range::Positive());
     reach_ = node.GetDouble("reach", 0.02, Range::Positive());
+    // ARGoS has two devices where Colony has one: under ARGoS's names this
+    // instance drives only its own half, so a controller declaring both
+    // footbot_gripper and footbot_turret has each command reach the robot once.
+    const std::string name = node.name();
+    drives_grip_ = name != "footbot_turret";
+    drives_turret_ = name != "footbot_gripper";
   }
 
   Actuator* Attach(EntityHandle robot, const RandomStream& rng) override {
     GripperState* g = sim().space().Get<GripperState>(robot.index);  // checked by the host
-    g->turret_speed = turret_speed_;
-    g->reach = reach_;
+    if (drives_turret_) g->turret_speed = turret_speed_;
+    if (drives_grip_) g->reach = reach_;
     return &instances_.Add(robot, rng);
   }
   std::vector<std::string> NeededComponents() const override {
@@ -44,8 +50,8 @@ class GripperSystem : public ActuatorSystem {
       GripperInstance& a = instances_[k];
       if (!a.alive) continue;
       GripperState& g = *space.Get<GripperState>(a.robot.index);
-      g.want_grip = a.gripping();
-      if (g.holding()) continue;
+      if (drives_grip_) g.want_grip = a.gripping();
+      if (!drives_turret_ || g.holding()) continue;
       const double target =
           std::isfinite(a.turret_target()) ? WrapAngle(a.turret_target()) : g.turret;
       g.turret =
@@ -55,6 +61,7 @@ class GripperSystem : public ActuatorSystem {
 
  private:
   double turret_speed_ = 1.0, reach_ = 0.02;
+  bool drives_grip_ = true, drives_turret_ = true;
   InstanceStore<GripperInstance> instances_;
 };
 
@@ -71,7 +78,7 @@ COLONY_REGISTER_ACTUATOR(
         {"reach", "a number > 0 (m)", "0.02",
          "how far beyond the body the jaws close on something"},
     }),
-    {"footbot_gripper"});
+    {"footbot_gripper", "footbot_turret"});
 
 }  // namespace
 }  // namespace colony

@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "actuators/gripper/gripper_state.h"
+#include "core/space.h"
 #include "tests/test_util.h"
 
 namespace colony {
@@ -404,6 +406,49 @@ end
   const fs::path dir = WriteFiles("devices", {{"exp.argos", text}, {"dev.lua", script}});
   auto sim = Load((dir / "exp.argos").string(), {"framework.experiment.length=2"});
   while (!sim->Done()) ASSERT_NO_THROW(sim->Step()) << "tick " << sim->tick() + 1;
+  fs::remove_all(dir);
+}
+
+// ARGoS's footbot_turret and footbot_gripper are two devices, Colony's
+// gripper actuator one: declared under both names, the turret turns to the
+// angle set_rotation gives while the gripper keeps its own command, and
+// footbot_encoder fills robot.wheels.encoder (cm per tick) as in ARGoS.
+TEST(LuaRobotTable, TurretAndGripperDeclaredApartAndTheEncoderName) {
+  if (!testing::HaveEngine("dynamics2d")) GTEST_SKIP() << "built without dynamics2d";
+  const std::string script = R"lua(
+local function check(condition, what) if not condition then error("check failed: " .. what, 2) end end
+ticks = 0
+function init()
+   check(type(robot.turret.set_rotation) == "function", "robot.turret.set_rotation")
+   check(type(robot.gripper.lock_positive) == "function", "robot.gripper")
+   check(robot.wheels.encoder ~= nil and robot.wheels.encoder.distance_left == 0, "robot.wheels.encoder")
+end
+function step()
+   ticks = ticks + 1
+   robot.wheels.set_velocity(5, 5)
+   robot.turret.set_rotation(math.pi / 2)
+   robot.gripper.lock_positive()
+   if ticks == 60 then
+      check(math.abs(robot.turret.rotation - math.pi / 2) < 1e-6,
+            "the turret reached pi/2, not " .. robot.turret.rotation)
+      -- 5 cm/s for one tick of 0.1 s.
+      check(math.abs(robot.wheels.encoder.distance_left - 0.5) < 0.05,
+            "0.5 cm per tick on the left wheel, not " .. robot.wheels.encoder.distance_left)
+   end
+end
+)lua";
+  std::string text =
+      ArgosFile("script=\"turret.lua\"", 1, "<footbot_encoder/><footbot_turret_encoder/>",
+                "<differential_steering/><footbot_turret/><footbot_gripper/>");
+  text.replace(text.find("<kinematics2d id=\"k2d\"/>"), 24, "<dynamics2d id=\"d2d\"/>");
+  const fs::path dir = WriteFiles("turret", {{"exp.argos", text}, {"turret.lua", script}});
+  auto sim = Load((dir / "exp.argos").string(), {"framework.experiment.length=6"});
+  while (!sim->Done()) ASSERT_NO_THROW(sim->Step()) << "tick " << sim->tick() + 1;
+  EXPECT_EQ(sim->tick(), 60);
+  // The turret's half (which never grips) did not overwrite the gripper's.
+  const EntityHandle robot = sim->space().Find("fb0");
+  ASSERT_TRUE(robot.valid());
+  EXPECT_TRUE(sim->space().Get<GripperState>(robot.index)->want_grip);
   fs::remove_all(dir);
 }
 

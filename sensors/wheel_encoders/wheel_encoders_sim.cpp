@@ -89,7 +89,7 @@ COLONY_REGISTER_SENSOR(EncoderSystem, "wheel_encoders", "default",
                                        {"distance_left(), distance_right(): how far each wheel "
                                         "moved during the last tick (m, < 0 backwards)",
                                         "wheel_base(): between the wheels (m)"}},
-                       EncoderAttributes(), {"differential_steering"});
+                       EncoderAttributes(), {"differential_steering", "footbot_encoder"});
 
 }  // namespace
 }  // namespace colony
