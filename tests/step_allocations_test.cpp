@@ -83,8 +83,7 @@ TEST(StepAllocations, DiffusionStepsWithoutAllocating) {
 // be 10,000 over these 10 ticks; the bound catches that, not the growth.
 TEST(StepAllocations, FlockingAllocatesOnlyToGrowReceiveBuffers) {
   for (int threads : {1, 2}) {
-    EXPECT_LT(AllocationsOverTicks("experiments/benchmarks/flocking_1000.xml", threads, 5, 10),
-              200)
+    EXPECT_LT(AllocationsOverTicks("experiments/benchmarks/flocking_1000.xml", threads, 5, 10), 200)
         << "with " << threads << " threads";
   }
 }
