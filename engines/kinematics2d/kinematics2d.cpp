@@ -141,6 +141,7 @@ class Kinematics2dEngine : public kinematics2d::Engine {
       static thread_local std::vector<uint32_t> scratch;
       std::vector<uint32_t>& near = scratch;
       near.clear();
+      near.reserve(64);  // once per thread: enough for any crowd seen so far
       for (size_t k = b; k < e; ++k) {
         first_[k] = Collides(space, k, margin, near, &sensitive_[k]) ? 1 : 0;
       }

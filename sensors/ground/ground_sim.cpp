@@ -106,6 +106,7 @@ class GroundSystem : public SensorSystem {
     static thread_local std::vector<uint32_t> scratch;
     std::vector<uint32_t>& near = scratch;
     near.clear();
+    near.reserve(64);  // once per thread: enough for any crowd seen so far
     for (size_t k = begin; k < end; ++k) {
       GroundInstance& g = instances_[k];
       if (!g.alive) continue;

@@ -115,6 +115,7 @@ class ManipulatorSensorSystem : public SensorSystem {
     static thread_local std::vector<uint32_t> scratch;
     std::vector<uint32_t>& near = scratch;
     near.clear();
+    near.reserve(64);  // once per thread: enough for any crowd seen so far
     for (size_t k = begin; k < end; ++k) {
       ManipulatorSensorInstance& s = instances_[k];
       if (!s.alive) continue;
