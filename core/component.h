@@ -73,6 +73,11 @@ class ComponentPool final : public ComponentPoolBase {
     owners_.push_back(owner);
     return static_cast<uint32_t>(items_.size() - 1);
   }
+  // Room for `more` items beyond those there are (no doubling slack).
+  void Reserve(size_t more) {
+    items_.reserve(items_.size() + more);
+    owners_.reserve(owners_.size() + more);
+  }
   T& operator[](uint32_t index) { return items_[index]; }
   const T& operator[](uint32_t index) const { return items_[index]; }
   size_t size() const { return items_.size(); }
@@ -148,6 +153,8 @@ class ComponentList {
     // Puts the value into the space's pool of its type, owned by `slot`;
     // returns its index there.
     virtual uint32_t AddTo(Space& space, uint32_t slot) const = 0;
+    // Makes room in the space's pool of its type for `more` items.
+    virtual void ReserveIn(Space& space, size_t more) const = 0;
   };
   template <class T>
   struct Item final : ItemBase {
@@ -156,6 +163,7 @@ class ComponentList {
     ComponentType type() const override { return ComponentTypeOf<T>(); }
     size_t bytes() const override { return sizeof(T); }
     uint32_t AddTo(Space& space, uint32_t slot) const override;  // space.h
+    void ReserveIn(Space& space, size_t more) const override;    // space.h
     T value;
   };
   std::vector<std::unique_ptr<ItemBase>> items_;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/bounds.h"
 #include "core/geometry2d.h"
 
 namespace colony {
@@ -78,11 +79,25 @@ std::string OutsideArenaProblem(const Space::EntityInit& init, const Space& spac
   return "";
 }
 
+PlacementIndex::PlacementIndex(double cell, const Space& space, size_t expected) : space_(space) {
+  const Vec3 lo = space.arena_min(), hi = space.arena_max();
+  const double max_cells = std::clamp(4.0 * static_cast<double>(expected), 4096.0, kMaxGridCells);
+  cell_ = CappedCellSize(hi.x() - lo.x() + cell, hi.y() - lo.y() + cell, cell, max_cells);
+  // Cells are aligned on multiples of the cell size from the origin.
+  base_x_ = static_cast<int64_t>(std::floor(lo.x() / cell_));
+  base_y_ = static_cast<int64_t>(std::floor(lo.y() / cell_));
+  nx_ = static_cast<int64_t>(std::floor(hi.x() / cell_)) - base_x_ + 1;
+  ny_ = static_cast<int64_t>(std::floor(hi.y() / cell_)) - base_y_ + 1;
+  head_.assign(static_cast<size_t>(nx_ * ny_), kNone);
+  tail_.assign(head_.size(), kNone);
+}
+
 const PlacementIndex::Item* PlacementIndex::FindOverlap(const Pose& pose, const Geometry& g,
                                                         bool movable_only) const {
   auto overlap = [&](uint32_t k) {
-    return (!movable_only || items_[k].movable) &&
-           FootprintsOverlap(pose, g, items_[k].pose, items_[k].geometry);
+    const uint32_t s = items_[k].slot;
+    return (!movable_only || space_.movable(s)) &&
+           FootprintsOverlap(pose, g, space_.pose(s), space_.geometry(s));
   };
   const CellSpan span = SpanOf(pose, g);
   if (span.cells() > kMaxCellsPerItem) {
@@ -94,10 +109,8 @@ const PlacementIndex::Item* PlacementIndex::FindOverlap(const Pose& pose, const 
   }
   for (int64_t cy = span.y0; cy <= span.y1; ++cy) {
     for (int64_t cx = span.x0; cx <= span.x1; ++cx) {
-      auto it = cells_.find(Key(cx, cy));
-      if (it == cells_.end()) continue;
-      for (uint32_t k : it->second) {
-        if (overlap(k)) return &items_[k];
+      for (uint32_t e = head_[cy * nx_ + cx]; e != kNone; e = entries_[e].next) {
+        if (overlap(entries_[e].item)) return &items_[entries_[e].item];
       }
     }
   }
@@ -107,29 +120,43 @@ const PlacementIndex::Item* PlacementIndex::FindOverlap(const Pose& pose, const 
   return nullptr;
 }
 
-void PlacementIndex::Insert(const Pose& pose, const Geometry& g, const std::string& id, int line,
-                            bool movable) {
+void PlacementIndex::Insert(uint32_t slot, int line) {
   const uint32_t k = static_cast<uint32_t>(items_.size());
-  items_.push_back({pose, g, id, line, movable});
-  const CellSpan span = SpanOf(pose, g);
+  items_.push_back({slot, line});
+  const CellSpan span = SpanOf(space_.pose(slot), space_.geometry(slot));
   if (span.cells() > kMaxCellsPerItem) {
     large_.push_back(k);
     return;
   }
-  for (int64_t cy = span.y0; cy <= span.y1; ++cy)
-    for (int64_t cx = span.x0; cx <= span.x1; ++cx) cells_[Key(cx, cy)].push_back(k);
+  for (int64_t cy = span.y0; cy <= span.y1; ++cy) {
+    for (int64_t cx = span.x0; cx <= span.x1; ++cx) {
+      const size_t c = static_cast<size_t>(cy * nx_ + cx);
+      const uint32_t e = static_cast<uint32_t>(entries_.size());
+      entries_.push_back({k, kNone});
+      if (tail_[c] == kNone) {
+        head_[c] = e;
+      } else {
+        entries_[tail_[c]].next = e;
+      }
+      tail_[c] = e;
+    }
+  }
 }
 
-// Placed footprints lie inside the arena (checked first), so cell indices
-// stay far within int64 range.
 PlacementIndex::CellSpan PlacementIndex::SpanOf(const Pose& pose, const Geometry& g) const {
   const Vec2 half = FootprintHalfExtents(g, pose.orientation);
   const Vec3& p = pose.position;
-  return {Cell(p.x() - half.x()), Cell(p.y() - half.y()), Cell(p.x() + half.x()),
-          Cell(p.y() + half.y())};
+  return {CellX(p.x() - half.x()), CellY(p.y() - half.y()), CellX(p.x() + half.x()),
+          CellY(p.y() + half.y())};
 }
 
-int64_t PlacementIndex::Cell(double v) const { return static_cast<int64_t>(std::floor(v / cell_)); }
+int64_t PlacementIndex::CellX(double v) const {
+  return std::clamp(static_cast<int64_t>(std::floor(v / cell_)) - base_x_, int64_t{0}, nx_ - 1);
+}
+
+int64_t PlacementIndex::CellY(double v) const {
+  return std::clamp(static_cast<int64_t>(std::floor(v / cell_)) - base_y_, int64_t{0}, ny_ - 1);
+}
 
 std::string PlacementProblem(const Space::EntityInit& init, const Space& space,
                              const PlacementIndex& index) {
@@ -140,7 +167,7 @@ std::string PlacementProblem(const Space::EntityInit& init, const Space& space,
   // anything movable must start clear of everything, whichever comes first.
   const bool movable = init.flags & kMovable;
   if (const auto* other = index.FindOverlap(init.pose, init.geometry, !movable)) {
-    return "overlaps '" + other->id + "' (line " + std::to_string(other->line) + ")";
+    return "overlaps '" + space.id(other->slot) + "' (line " + std::to_string(other->line) + ")";
   }
   return "";
 }

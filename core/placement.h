@@ -9,7 +9,6 @@
 #include <cstdint>
 #include <functional>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "core/error.h"
@@ -30,28 +29,37 @@ bool FootprintsOverlap(const Pose& a, const Geometry& ga, const Pose& b, const G
 std::string OutsideArenaProblem(const Space::EntityInit& init, const Space& space);
 
 // Placed solid footprints, to reject entities inside walls or on top of each
-// other while an experiment is built. Footprints are filed in the cells of a
-// hash grid they touch, except large ones (walls of a huge arena): those are
-// kept apart in a short list that every query tests, so that no footprint
-// is filed in more than kMaxCellsPerItem cells and the index grows with the
-// entities, not the area.
+// other while an experiment is built. The index keeps only the space slot
+// and file line of each placed entity (its pose and shape are read from the
+// space), filed in the cells of a uniform grid over the arena that its
+// footprint touches; each cell is a list in the order the entities were
+// placed (head and tail per cell, one link per entry), so a load allocates a
+// few flat arrays instead of a node per cell. Large footprints (walls of a
+// huge arena) are kept apart in a short list that every query tests, so that
+// no footprint is filed in more than kMaxCellsPerItem cells. The grid has at
+// most max(4096, 4 x expected entities) cells: over a huge, nearly empty
+// arena its cells grow, so it costs memory for the entities, not the area.
+// Entities are placed inside the arena (checked first); a footprint beyond
+// it is filed in the edge cells.
 class PlacementIndex {
  public:
-  explicit PlacementIndex(double cell) : cell_(cell) {}
+  // Cells of at least `cell` metres over the arena of `space`, for about
+  // `expected` entities.
+  PlacementIndex(double cell, const Space& space, size_t expected);
   struct Item {
-    Pose pose;
-    Geometry geometry;
-    std::string id;
-    int line;
-    bool movable;
+    uint32_t slot;  // in the space
+    int line;       // in the experiment file (0: none)
   };
   // A placed footprint overlapping `pose`/`g` (only movable ones if
-  // `movable_only`), or nullptr.
+  // `movable_only`), or nullptr: cells row by row, each in the order placed,
+  // then the large footprints.
   const Item* FindOverlap(const Pose& pose, const Geometry& g, bool movable_only) const;
-  void Insert(const Pose& pose, const Geometry& g, const std::string& id, int line, bool movable);
+  // Files the entity in `slot` of the space, as it stands now.
+  void Insert(uint32_t slot, int line);
 
  private:
   static constexpr double kMaxCellsPerItem = 4096;
+  static constexpr uint32_t kNone = UINT32_MAX;
   // The cells [x0, x1] x [y0, y1] a footprint's bounding box touches.
   struct CellSpan {
     int64_t x0, y0, x1, y1;
@@ -59,14 +67,20 @@ class PlacementIndex {
       return (static_cast<double>(x1 - x0) + 1) * (static_cast<double>(y1 - y0) + 1);
     }
   };
+  struct Entry {
+    uint32_t item;
+    uint32_t next;  // next entry of the same cell, or kNone
+  };
   CellSpan SpanOf(const Pose& pose, const Geometry& g) const;
-  int64_t Cell(double v) const;
-  static uint64_t Key(int64_t x, int64_t y) {
-    return (static_cast<uint64_t>(x) << 32) ^ static_cast<uint32_t>(y);
-  }
+  int64_t CellX(double v) const;
+  int64_t CellY(double v) const;
+  const Space& space_;
   double cell_;
+  int64_t base_x_ = 0, base_y_ = 0;  // cell coordinates of the grid's first column and row
+  int64_t nx_ = 1, ny_ = 1;
   std::vector<Item> items_;
-  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+  std::vector<uint32_t> head_, tail_;  // per cell: first and last entry, or kNone
+  std::vector<Entry> entries_;
   std::vector<uint32_t> large_;  // items spanning over kMaxCellsPerItem cells
 };
 

@@ -35,9 +35,16 @@ class RandomStream {
   // The stream of `owner` (an entity id) for `purpose` (a sensor label...).
   static RandomStream For(uint64_t experiment_seed, std::string_view owner,
                           std::string_view purpose) {
+    return For(experiment_seed, owner, purpose, "");
+  }
+  // The stream of purpose `purpose` + `purpose_tail` (e.g. "sensor/" and a
+  // device's label), without building that string: the hash runs over the
+  // bytes in order, so the stream is the same.
+  static RandomStream For(uint64_t experiment_seed, std::string_view owner,
+                          std::string_view purpose, std::string_view purpose_tail) {
     uint64_t h = HashString(owner, experiment_seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull);
     h = HashString("/", h);
-    return RandomStream(HashString(purpose, h));
+    return RandomStream(HashString(purpose_tail, HashString(purpose, h)));
   }
 
   uint64_t NextU64() {

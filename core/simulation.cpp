@@ -64,9 +64,10 @@ Simulation::~Simulation() {
   }
 }
 
-EntityHandle Simulation::Instantiate(const EntityDesc& desc, PhysicsModel* const* models,
-                                     const std::vector<int>& engines, int line) {
-  const EntityHandle h = space_.Add(desc.init);
+EntityHandle Simulation::Instantiate(const EntityDesc& desc, uint16_t type,
+                                     PhysicsModel* const* models, const std::vector<int>& engines,
+                                     int line) {
+  const EntityHandle h = space_.Add(desc.init, type);
   if (engine_of_.size() < space_.slots()) {
     engine_of_.resize(space_.slots(), -1);
     robot_of_.resize(space_.slots(), -1);
@@ -83,7 +84,6 @@ EntityHandle Simulation::Instantiate(const EntityDesc& desc, PhysicsModel* const
   if (!desc.controller.empty()) {
     Robot& robot = robots_.emplace_back();
     robot.entity = h;
-    robot.id = desc.init.id;
     robot_of_[h.index] = static_cast<int32_t>(robots_.size() - 1);
     for (auto& c : controller_configs_) {
       if (c->id == desc.controller) robot.config = c.get();
@@ -95,14 +95,15 @@ EntityHandle Simulation::Instantiate(const EntityDesc& desc, PhysicsModel* const
 }
 
 void Simulation::AttachController(Robot& robot, int line) {
+  const std::string& id = space_.id(robot.entity.index);
   ControllerConfig& config = *robot.config;
   const auto* entry = static_cast<const Registry<Controller>::Entry*>(config.entry);
   config.library = entry->info.library.empty() ? nullptr : entry->info.library.c_str();
   robot.controller = entry->create();
   const size_t ns = config.sensors.size(), na = config.actuators.size();
-  robot.sensors = std::make_unique<Sensor*[]>(ns);
-  robot.actuators = std::make_unique<Actuator*[]>(na);
-  const std::string type = space_.TypeLabel(space_.type(robot.entity.index));
+  robot.sensors = sensor_tables_.Take(ns);
+  robot.actuators = actuator_tables_.Take(na);
+  const std::string& type = space_.TypeLabel(space_.type(robot.entity.index));
   bool attached = true;
   // What the devices need of the robot and its engine, checked here for
   // every device (and again in Migrate).
@@ -115,9 +116,9 @@ void Simulation::AttachController(Robot& robot, int line) {
       if (std::string problem = component_problem(config.sensors[i]); !problem.empty())
         throw AttachError(problem);
       robot.sensors[i] = config.sensors[i]->Attach(
-          robot.entity, RandomStream::For(seed_, robot.id, "sensor/" + config.sensor_labels[i]));
+          robot.entity, RandomStream::For(seed_, id, "sensor/", config.sensor_labels[i]));
     } catch (const AttachError& e) {
-      config.sensor_nodes[i].ElementError("robot '" + robot.id + "' (a " + type + ", line " +
+      config.sensor_nodes[i].ElementError("robot '" + id + "' (a " + type + ", line " +
                                           std::to_string(line) +
                                           ") cannot carry this sensor: " + e.what());
       attached = false;
@@ -128,10 +129,9 @@ void Simulation::AttachController(Robot& robot, int line) {
       if (std::string problem = component_problem(config.actuators[i]); !problem.empty())
         throw AttachError(problem);
       robot.actuators[i] = config.actuators[i]->Attach(
-          robot.entity,
-          RandomStream::For(seed_, robot.id, "actuator/" + config.actuator_labels[i]));
+          robot.entity, RandomStream::For(seed_, id, "actuator/", config.actuator_labels[i]));
     } catch (const AttachError& e) {
-      config.actuator_nodes[i].ElementError("robot '" + robot.id + "' (a " + type + ", line " +
+      config.actuator_nodes[i].ElementError("robot '" + id + "' (a " + type + ", line " +
                                             std::to_string(line) +
                                             ") cannot carry this actuator: " + e.what());
       attached = false;
@@ -141,15 +141,15 @@ void Simulation::AttachController(Robot& robot, int line) {
     context_->diagnostics.ThrowIfAny();
   }
   DeviceTable table;
-  table.robot_id = &robot.id;
+  table.robot_id = &id;
   table.sensor_labels = &config.sensor_labels;
   table.sensor_names = &config.sensor_names;
-  table.sensors = robot.sensors.get();
+  table.sensors = robot.sensors;
   table.actuator_labels = &config.actuator_labels;
   table.actuator_names = &config.actuator_names;
-  table.actuators = robot.actuators.get();
+  table.actuators = robot.actuators;
   table.run_folder = &run_folder_;
-  robot.controller->Bind(table, RandomStream::For(seed_, robot.id, "controller"));
+  robot.controller->Bind(table, RandomStream::For(seed_, id, "controller"));
   const ConfigNode params = config.node.Child("params");
   const ConfigNode& at = params.valid() ? params : config.node;
   try {
@@ -158,12 +158,12 @@ void Simulation::AttachController(Robot& robot, int line) {
     at.Error(e.key(), e.value(), e.what());
     context_->diagnostics.ThrowIfAny();
   } catch (const std::exception& e) {
-    config.node.ElementError("controller '" + config.label + "' failed to start on robot '" +
-                             robot.id + "': " + e.what());
+    config.node.ElementError("controller '" + config.label + "' failed to start on robot '" + id +
+                             "': " + e.what());
     context_->diagnostics.ThrowIfAny();
   } catch (...) {
-    config.node.ElementError("controller '" + config.label + "' failed to start on robot '" +
-                             robot.id + "': it threw something that is not a std::exception");
+    config.node.ElementError("controller '" + config.label + "' failed to start on robot '" + id +
+                             "': it threw something that is not a std::exception");
     context_->diagnostics.ThrowIfAny();
   }
   if (!config.params_checked) {
@@ -324,9 +324,9 @@ void Simulation::CheckDevicesCanMigrate(uint32_t slot, const PhysicsEngine& from
     const std::string problem = ComponentProblem(slot, needed, &to, false);
     if (problem.empty()) return;
     throw RuntimeFailure(
-        "robot '" + robot.id + "' crossed at tick " + std::to_string(tick_ + 1) + " from " +
-        EngineName(&from) + " into the region of " + EngineName(&to) +
-        ", which cannot simulate its " + kind + " '" + label + "': " + problem +
+        "robot '" + space_.id(robot.entity.index) + "' crossed at tick " +
+        std::to_string(tick_ + 1) + " from " + EngineName(&from) + " into the region of " +
+        EngineName(&to) + ", which cannot simulate its " + kind + " '" + label + "': " + problem +
         "; keep such robots inside the regions of engines that simulate it (walls, or "
         "boundaries)");
   };
@@ -414,7 +414,7 @@ void Simulation::SenseAndControl() {
       if (!r.alive) continue;
       code.label = r.config->label.c_str();
       code.library = r.config->library;
-      code.robot = r.id.c_str();
+      code.robot = space_.id(r.entity.index).c_str();
       try {
         r.controller->ControlStep();
       } catch (const std::exception& ex) {
@@ -442,8 +442,9 @@ void Simulation::SenseAndControl() {
   }
   if (error_robot != SIZE_MAX) {
     const Robot& r = robots_[error_robot];
-    throw RuntimeFailure("controller '" + r.config->label + "' of robot '" + r.id +
-                         "' failed at tick " + std::to_string(tick_ + 1) + ": " + error_message);
+    throw RuntimeFailure("controller '" + r.config->label + "' of robot '" +
+                         space_.id(r.entity.index) + "' failed at tick " +
+                         std::to_string(tick_ + 1) + ": " + error_message);
   }
 }
 
@@ -476,10 +477,10 @@ void Simulation::CallResetHooks() {
       if (!r.alive) continue;
       code.label = r.config->label.c_str();
       code.library = r.config->library;
-      code.robot = r.id.c_str();
+      code.robot = space_.id(r.entity.index).c_str();
       auto failed = [&](const std::string& message) {
-        return RuntimeFailure("controller '" + r.config->label + "' of robot '" + r.id +
-                              "' failed in Reset: " + message);
+        return RuntimeFailure("controller '" + r.config->label + "' of robot '" +
+                              space_.id(r.entity.index) + "' failed in Reset: " + message);
       };
       try {
         r.controller->Reset();

@@ -7,6 +7,7 @@
 // in core/simulation.cpp.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -265,12 +266,11 @@ class Simulation {
     bool params_checked = false;
   };
   struct Robot {
-    EntityHandle entity;
-    std::string id;
+    EntityHandle entity;  // its id is the space's (a reference that stays valid)
     std::unique_ptr<Controller> controller;
     ControllerConfig* config = nullptr;
-    std::unique_ptr<Sensor*[]> sensors;
-    std::unique_ptr<Actuator*[]> actuators;
+    Sensor** sensors = nullptr;      // in sensor_tables_
+    Actuator** actuators = nullptr;  // in actuator_tables_
     bool alive = true;
   };
 
@@ -321,7 +321,7 @@ class Simulation {
   // Adds a described entity to the space, an engine and (robots) a controller.
   // `engines`: the engines it goes into (one if movable); `line`: its line in
   // the file, for messages.
-  EntityHandle Instantiate(const EntityDesc& desc, PhysicsModel* const* models,
+  EntityHandle Instantiate(const EntityDesc& desc, uint16_t type, PhysicsModel* const* models,
                            const std::vector<int>& engines, int line);
   // Hands movable entities that left their engine's region to the engine
   // whose region now holds them.
@@ -405,7 +405,31 @@ class Simulation {
   std::vector<std::unique_ptr<SensorSystem>> sensor_systems_;
   std::vector<std::unique_ptr<ActuatorSystem>> actuator_systems_;
   std::vector<std::unique_ptr<ControllerConfig>> controller_configs_;
-  std::deque<Robot> robots_;       // stable addresses: controllers point at their ids
+  std::deque<Robot> robots_;  // stable addresses: controllers point at their tables
+  // Robots' device tables (the pointers to each robot's sensor and actuator
+  // instances), carved from shared blocks: a heap array per robot and table
+  // cost 32 bytes each, for one or two pointers.
+  template <class T>
+  class TableBlocks {
+   public:
+    T* Take(size_t n) {
+      if (n == 0) return nullptr;
+      if (blocks_.empty() || used_ + n > size_) {
+        size_ = std::max<size_t>(n, kBlock);
+        blocks_.push_back(std::make_unique<T[]>(size_));
+        used_ = 0;
+      }
+      used_ += n;
+      return blocks_.back().get() + used_ - n;
+    }
+
+   private:
+    static constexpr size_t kBlock = 4096;
+    std::vector<std::unique_ptr<T[]>> blocks_;
+    size_t used_ = 0, size_ = 0;
+  };
+  TableBlocks<Sensor*> sensor_tables_;
+  TableBlocks<Actuator*> actuator_tables_;
   std::vector<int32_t> robot_of_;  // per space slot, -1 if none
   size_t robot_count_ = 0;
   std::vector<std::unique_ptr<LoopFunctions>> loop_functions_;

@@ -128,7 +128,10 @@ std::string Simulation::TearDown() {
   for (Robot& r : robots_) {
     if (!r.alive || !r.controller) continue;
     guarded([&] { r.controller->Destroy(); },
-            [&] { return "controller '" + r.config->label + "' of robot '" + r.id + "'"; });
+            [&] {
+              return "controller '" + r.config->label + "' of robot '" + space_.id(r.entity.index) +
+                     "'";
+            });
   }
   // In the reverse order of the members' declaration, as the destructor.
   model_info_.clear();
@@ -142,6 +145,8 @@ std::string Simulation::TearDown() {
   loop_functions_.clear();
   robot_count_ = 0;
   robot_of_.clear();
+  actuator_tables_ = {};
+  sensor_tables_ = {};
   robots_.clear();
   controller_configs_.clear();
   actuator_systems_.clear();
@@ -378,7 +383,12 @@ void Simulation::BuildArena(const ArenaSpec& arena) {
           Diagnostic{file_, arena.floor.line, "floor", "path", arena.floor.image, error});
     }
   }
-  PlacementIndex placed(0.5);
+  size_t expected = arena.walls.size();
+  for (const auto& item : arena.contents) {
+    const auto* block = std::get_if<DistributeSpec>(&item);
+    expected += block ? static_cast<size_t>(block->quantity) : 1;
+  }
+  PlacementIndex placed(0.5, space_, expected);
   for (const EntityDesc& wall : arena.walls) Add(wall, PlacementCheck::kClear, &placed);
   auto problem = [&](const EntityDesc& desc) {
     return PlacementProblem(desc.init, space_, placed);
@@ -390,8 +400,16 @@ void Simulation::BuildArena(const ArenaSpec& arena) {
     if (const auto* desc = std::get_if<EntityDesc>(&item)) {
       Add(*desc, PlacementCheck::kClear, &placed);
     } else {
-      PlaceDistributed(std::get<DistributeSpec>(item), seed_, file_, problem, add,
-                       context_->diagnostics);
+      const DistributeSpec& block = std::get<DistributeSpec>(item);
+      // Room for the whole block up front: arrays grown by doubling would
+      // leave up to half of them unused, and copying them sets the peak.
+      const size_t more = static_cast<size_t>(block.quantity);
+      space_.Reserve(more, block.entity.init);
+      const size_t slots = space_.slots() + more;
+      engine_of_.reserve(slots);
+      robot_of_.reserve(slots);
+      line_of_.reserve(slots);
+      PlaceDistributed(block, seed_, file_, problem, add, context_->diagnostics);
     }
   }
 }
@@ -464,10 +482,14 @@ EntityHandle Simulation::Add(const EntityDesc& desc, PlacementCheck check, Place
     EntityError(desc, "id", "", "an entity needs an id, unique in the experiment");
     return {};
   }
+  auto has_controller = [&] {
+    return std::any_of(controller_configs_.begin(), controller_configs_.end(),
+                       [&](const auto& c) { return c->id == desc.controller; });
+  };
   if (type.is_robot()) {
-    std::vector<std::string> ids;
-    for (const auto& c : controller_configs_) ids.push_back(c->id);
-    if (std::find(ids.begin(), ids.end(), desc.controller) == ids.end()) {
+    if (!has_controller()) {
+      std::vector<std::string> ids;
+      for (const auto& c : controller_configs_) ids.push_back(c->id);
       std::string message =
           desc.controller.empty()
               ? "a " + entry->info.label + " needs a controller: the id of one of the <controllers>"
@@ -532,11 +554,9 @@ EntityHandle Simulation::Add(const EntityDesc& desc, PlacementCheck check, Place
   }
   const std::vector<int> engines = EnginesFor(desc, type_id, models);
   if (init.geometry.shape != ShapeKind::kNone && engines.empty()) return {};
-  if (placed && (init.flags & kSolid))
-    placed->Insert(init.pose, init.geometry, id, desc.line, init.flags & kMovable);
-  EntityDesc typed = desc;
-  typed.init.type = type_id;
-  return Instantiate(typed, models.data(), engines, desc.line);
+  const EntityHandle h = Instantiate(desc, type_id, models.data(), engines, desc.line);
+  if (placed && (init.flags & kSolid)) placed->Insert(h.index, desc.line);
+  return h;
 }
 
 std::string Simulation::PlaceProblemNow(const Space::EntityInit& init, uint32_t self) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <functional>
 #include <stdexcept>
 
 #include "core/bounds.h"
@@ -28,7 +29,68 @@ const std::vector<uint32_t>& Space::OfType(uint16_t type) const {
   return type < by_type_.size() ? by_type_[type] : kNone;
 }
 
-EntityHandle Space::Add(EntityInit init) {
+void Space::Reserve(size_t more, const EntityInit& like) {
+  const size_t n = slots() + more;
+  if (n <= flags_.capacity()) return;
+  flags_.reserve(n);
+  generation_.reserve(n);
+  types_.reserve(n);
+  poses_.reserve(n);
+  twists_.reserve(n);
+  geometries_.reserve(n);
+  colors_.reserve(n);
+  masses_.reserve(n);
+  contact_.reserve(n);
+  led_offset_.reserve(n);
+  led_count_.reserve(n);
+  light_slot_.reserve(n);
+  component_begin_.reserve(n);
+  component_count_.reserve(n);
+  for (const auto& item : like.components.items_) item->ReserveIn(*this, more);
+  component_refs_.reserve(component_refs_.size() + more * like.components.size());
+  leds_.reserve(leds_.size() + more * static_cast<size_t>(like.led_count));
+  GrowIdTable(n);
+}
+
+size_t Space::IdPosition(std::string_view id) const {
+  const size_t mask = id_table_.size() - 1;
+  size_t k = std::hash<std::string_view>()(id) & mask;
+  while (id_table_[k] != kNoSlot) {
+    if (id_table_[k] != kRemovedSlot && ids_[id_table_[k]] == id) return k;
+    k = (k + 1) & mask;
+  }
+  return k;
+}
+
+void Space::GrowIdTable(size_t entries) {
+  if (2 * entries <= id_table_.size()) return;
+  size_t size = 16;
+  while (size < 2 * entries) size *= 2;
+  std::vector<uint32_t> old = std::move(id_table_);
+  id_table_.assign(size, kNoSlot);
+  id_table_used_ = 0;
+  for (uint32_t slot : old) {
+    if (slot < kRemovedSlot) IndexId(slot);
+  }
+}
+
+void Space::IndexId(uint32_t slot) {
+  GrowIdTable(id_table_used_ + 1);
+  const size_t mask = id_table_.size() - 1;
+  size_t k = std::hash<std::string_view>()(ids_[slot]) & mask;
+  while (id_table_[k] != kNoSlot) k = (k + 1) & mask;
+  id_table_[k] = slot;
+  ++id_table_used_;
+}
+
+void Space::UnindexId(uint32_t slot) {
+  const size_t mask = id_table_.size() - 1;
+  size_t k = std::hash<std::string_view>()(ids_[slot]) & mask;
+  while (id_table_[k] != slot) k = (k + 1) & mask;
+  id_table_[k] = kRemovedSlot;
+}
+
+EntityHandle Space::Add(const EntityInit& init, uint16_t type) {
   if (init.components.size() > 255)
     throw std::length_error("entity '" + init.id + "' has more than 255 components");
   uint32_t slot;
@@ -54,7 +116,7 @@ EntityHandle Space::Add(EntityInit init) {
     ids_.emplace_back();
   }
   flags_[slot] = static_cast<uint8_t>(init.flags | kAlive);
-  types_[slot] = init.type;
+  types_[slot] = type;
   poses_[slot] = init.pose;
   twists_[slot] = Twist{};
   geometries_[slot] = init.geometry;
@@ -76,8 +138,8 @@ EntityHandle Space::Add(EntityInit init) {
     lights_.push_back({init.light_intensity});
   }
   ids_[slot] = init.id;
-  by_id_[init.id] = slot;
-  by_type_[init.type].push_back(slot);
+  IndexId(slot);
+  by_type_[type].push_back(slot);
   ++alive_count_;
   index_dirty_ = true;
   if (!(init.flags & kMovable)) static_dirty_ = true;
@@ -93,7 +155,7 @@ void Space::Remove(EntityHandle h) {
   if (!movable(slot)) static_dirty_ = true;
   flags_[slot] = 0;
   ++generation_[slot];
-  by_id_.erase(ids_[slot]);
+  UnindexId(slot);
   auto& list = by_type_[types_[slot]];
   list.erase(std::find(list.begin(), list.end(), slot));
   // Components stay allocated (their slots are not reused); LEDs are zeroed.
@@ -118,9 +180,9 @@ std::vector<ComponentType> Space::ComponentsOf(uint32_t i) const {
 }
 
 EntityHandle Space::Find(std::string_view id) const {
-  auto it = by_id_.find(std::string(id));
-  if (it == by_id_.end()) return {};
-  return HandleOf(it->second);
+  if (id_table_.empty()) return {};
+  const uint32_t slot = id_table_[IdPosition(id)];
+  return slot == kNoSlot ? EntityHandle{} : HandleOf(slot);
 }
 
 void Space::SetArena(const Vec3& center, const Vec3& size) {

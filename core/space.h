@@ -9,12 +9,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include "core/color.h"
@@ -112,7 +112,12 @@ class Space {
   size_t type_count() const { return type_labels_.size(); }
 
   // Adds an entity; the id must be new (checked by the caller).
-  EntityHandle Add(EntityInit init);
+  EntityHandle Add(const EntityInit& init) { return Add(init, init.type); }
+  // As Add(init), of type `type` whatever init.type says (no copy of `init`).
+  EntityHandle Add(const EntityInit& init, uint16_t type);
+  // Makes room for `more` entities like `like` beyond those alive, so that
+  // adding them grows no array (no doubling slack, no copy at the peak).
+  void Reserve(size_t more, const EntityInit& like);
   void Remove(EntityHandle h);
   bool IsAlive(EntityHandle h) const {
     return h.index < generation_.size() && generation_[h.index] == h.generation &&
@@ -259,8 +264,20 @@ class Space {
   std::vector<Color> leds_;
   std::vector<LightSource> lights_;
   // Cold data.
-  std::vector<std::string> ids_;
-  std::unordered_map<std::string, uint32_t> by_id_;
+  // A deque: an id's address stays valid while its entity lives (a
+  // controller's id() refers to it).
+  std::deque<std::string> ids_;
+  // Id index: open addressing with linear probing over slots (kNoSlot:
+  // empty, kRemovedSlot: a removed entry), a power of two long and at most
+  // half full. 4 to 8 bytes per entity, where a hash map's node per id cost
+  // about 70.
+  static constexpr uint32_t kNoSlot = UINT32_MAX, kRemovedSlot = UINT32_MAX - 1;
+  size_t IdPosition(std::string_view id) const;
+  void IndexId(uint32_t slot);
+  void UnindexId(uint32_t slot);
+  void GrowIdTable(size_t entries);
+  std::vector<uint32_t> id_table_;
+  size_t id_table_used_ = 0;  // entries, removed ones included
   std::vector<std::vector<uint32_t>> by_type_;
   std::vector<std::string> type_labels_;
   std::vector<uint32_t> free_slots_;
@@ -288,6 +305,11 @@ class Space {
 template <class T>
 uint32_t ComponentList::Item<T>::AddTo(Space& space, uint32_t slot) const {
   return space.Pool<T>().Add(slot, value);
+}
+
+template <class T>
+void ComponentList::Item<T>::ReserveIn(Space& space, size_t more) const {
+  space.Pool<T>().Reserve(more);
 }
 
 }  // namespace colony

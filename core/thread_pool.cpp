@@ -63,8 +63,7 @@ void ThreadPool::WorkerLoop() {
   }
 }
 
-void ThreadPool::ParallelFor(size_t n, size_t min_chunk,
-                             const std::function<void(size_t, size_t)>& fn) {
+void ThreadPool::ParallelFor(size_t n, size_t min_chunk, ChunkFn fn) {
   if (n == 0) return;
   min_chunk = std::max<size_t>(min_chunk, 1);
   if (workers_.empty() || n <= min_chunk || t_in_job) {

@@ -6,11 +6,34 @@
 #include <condition_variable>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 namespace colony {
+
+// A borrowed callable fn(begin, end): two pointers, made without allocating
+// (a std::function holding a lambda that captures more than two references
+// allocates, and a tick calls ParallelFor several times). It refers to the
+// callable it was made from, which must outlive it: pass it straight to
+// ParallelFor, which returns when every chunk is done.
+class ChunkFn {
+ public:
+  template <class F>
+  requires(!std::is_same_v<std::remove_cvref_t<F>, ChunkFn>)
+      ChunkFn(F&& f)  // NOLINT(google-explicit-constructor): lambdas convert implicitly
+      : object_(const_cast<void*>(static_cast<const void*>(std::addressof(f)))),
+        call_([](void* object, size_t begin, size_t end) {
+          (*static_cast<std::remove_reference_t<F>*>(object))(begin, end);
+        }) {}
+  void operator()(size_t begin, size_t end) const { call_(object_, begin, end); }
+
+ private:
+  void* object_;
+  void (*call_)(void*, size_t, size_t);
+};
 
 class ThreadPool {
  public:
@@ -24,7 +47,7 @@ class ThreadPool {
   int threads() const { return threads_; }
   // Calls fn(begin, end) over chunks of [0, n) of at least `min_chunk` items.
   // Called from inside a chunk, it runs everything inline.
-  void ParallelFor(size_t n, size_t min_chunk, const std::function<void(size_t, size_t)>& fn);
+  void ParallelFor(size_t n, size_t min_chunk, ChunkFn fn);
 
  private:
   void WorkerLoop();
@@ -35,7 +58,7 @@ class ThreadPool {
   std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable done_;
-  const std::function<void(size_t, size_t)>* job_ = nullptr;
+  const ChunkFn* job_ = nullptr;
   size_t n_ = 0, chunk_ = 0, next_ = 0, pending_ = 0;
   uint64_t generation_ = 0;
   bool stop_ = false;

@@ -1,13 +1,15 @@
 // colony_bench: speed and memory of fixed benchmark scenes.
 //
 //   colony_bench FILE.xml... [--threads N] [--repeat K] [--ticks T] [--set PATH=VALUE]...
+//                [--max-bytes-per-robot B]
 //   (CLI11, as colony: apps/colony/command_line.h; colony_bench --help)
 //
 // For each scene: loads it K times (default 3); each time runs T ticks (default:
 // the file's length) and measures
 //   - robot-steps per second: robots x ticks / seconds spent inside
 //     Simulation::Step (loading and set-up excluded);
-//   - load seconds (Simulation::Load: parsing, placement, plugin set-up);
+//   - load seconds (Simulation::Load: parsing, placement, plugin set-up) and
+//     teardown seconds (deleting the simulation);
 //   - memory per robot: (peak resident set during load + run - resident set
 //     before loading) / robots, in bytes; and the resident set growth during
 //     the load alone.
@@ -29,13 +31,17 @@
 // Prints one line per repetition, the medians, and one machine-readable line
 // per scene:
 //   RESULT scene=NAME robots=N threads=T ticks=K steps_per_s_median=...
-//          load_s_median=... bytes_per_robot=... load_bytes_per_robot=...
+//          load_s_median=... teardown_s_median=... bytes_per_robot=... load_bytes_per_robot=...
 //          cpu_ns_per_robot_step=... state_hash=... act_pct=... physics_pct=...
 //          media_pct=... loop_functions_pct=... sense_control_pct=...
 // (threads as resolved: 0 and 1 both mean the calling thread only, shown as 1; the state
 // hash is that of the first repetition, and a warning is printed if the
 // repetitions disagree.)
-// Exit status: 0 success, 2 bad arguments or experiment file, 1 failure while running.
+// With --max-bytes-per-robot B, a scene whose median peak bytes per robot
+// exceed B is reported ("OVER BUDGET ...") and the exit status is 1: the
+// test suite's memory budget check, a count of bytes rather than a timing.
+// Exit status: 0 success, 2 bad arguments or experiment file, 1 failure while running
+// or over the memory budget.
 #include <malloc.h>
 #include <sys/resource.h>
 #include <time.h>
@@ -113,6 +119,8 @@ struct Options {
   std::optional<int> threads;
   int repeat = 3;
   long long ticks = 0;  // 0: the file's length
+  // Exit status 1 when a scene's median peak bytes per robot exceed it (0: no limit).
+  long long max_bytes_per_robot = 0;
 };
 
 // The command line into `o`; false when --help was given (and printed).
@@ -136,6 +144,11 @@ bool ParseArgs(const std::vector<std::string>& args, Options& o) {
       ->type_name("K");
   app.add_option("--ticks", ticks, "ticks per run, 1 to 10^9 (default: the file's length)")
       ->type_name("T");
+  std::string max_bytes;
+  app.add_option("--max-bytes-per-robot", max_bytes,
+                 "a memory budget: exit status 1 when a scene's median peak bytes per robot "
+                 "exceed B (the test suite's check on diffusion_10000)")
+      ->type_name("B");
   colony::cli::AddListOption(app, "--set", o.overrides,
                              "overrides an attribute, as in colony run; repeatable")
       ->type_name("PATH=VALUE");
@@ -145,12 +158,15 @@ bool ParseArgs(const std::vector<std::string>& args, Options& o) {
   if (app.count("--repeat"))
     o.repeat = static_cast<int>(colony::cli::ParseWhole("--repeat", repeat, 1, 1000));
   if (app.count("--ticks")) o.ticks = colony::cli::ParseWhole("--ticks", ticks, 1, 1'000'000'000);
+  if (app.count("--max-bytes-per-robot"))
+    o.max_bytes_per_robot =
+        colony::cli::ParseWhole("--max-bytes-per-robot", max_bytes, 1, 1'000'000'000);
   if (o.files.empty()) throw UsageError("no experiment file given: colony_bench FILE.xml...");
   return true;
 }
 
 struct Repetition {
-  double load_s = 0, step_s = 0, steps_per_s = 0;
+  double load_s = 0, step_s = 0, steps_per_s = 0, teardown_s = 0;
   double cpu_s = 0;  // process CPU time over the stepping loop (all threads)
   double bytes_per_robot = 0, load_bytes_per_robot = 0;
   size_t robots = 0;
@@ -205,10 +221,14 @@ Repetition RunOnce(const Options& o, const std::string& file, bool first) {
   const double robots = static_cast<double>(std::max<size_t>(r.robots, 1));
   r.bytes_per_robot = static_cast<double>(peak - peak0) / robots;
   r.load_bytes_per_robot = static_cast<double>(rss_loaded - rss0) / robots;
+  const auto t1 = Clock::now();
+  sim.reset();
+  r.teardown_s = std::chrono::duration<double>(Clock::now() - t1).count();
   return r;
 }
 
 int Bench(const Options& o) {
+  int status = 0;
   for (const auto& file : o.files) {
     const std::string scene = std::filesystem::path(file).stem().string();
     std::vector<Repetition> reps;
@@ -225,12 +245,13 @@ int Bench(const Options& o) {
           colony::StateHasher::Hex(r.hash).c_str());
       std::fflush(stdout);
     }
-    std::vector<double> sps, load, bpr, lbpr, cpu_ns;
+    std::vector<double> sps, load, teardown, bpr, lbpr, cpu_ns;
     bool same_hash = true;
     for (const auto& r : reps) {
       sps.push_back(r.steps_per_s);
       cpu_ns.push_back(r.steps_per_s > 0 ? 1e9 * r.cpu_s / (r.step_s * r.steps_per_s) : 0.0);
       load.push_back(r.load_s);
+      teardown.push_back(r.teardown_s);
       if (r.peak_reset) bpr.push_back(r.bytes_per_robot);
       lbpr.push_back(r.load_bytes_per_robot);
       same_hash = same_hash && r.hash == reps.front().hash;
@@ -255,17 +276,22 @@ int Bench(const Options& o) {
         same_hash ? "" : " (WARNING: state hashes differ between repetitions)");
     std::printf(
         "RESULT scene=%s robots=%zu threads=%d ticks=%llu steps_per_s_median=%.0f "
-        "load_s_median=%.3f "
+        "load_s_median=%.3f teardown_s_median=%.3f "
         "bytes_per_robot=%.0f load_bytes_per_robot=%.0f cpu_ns_per_robot_step=%.0f state_hash=%s "
         "act_pct=%.1f physics_pct=%.1f media_pct=%.1f loop_functions_pct=%.1f "
         "sense_control_pct=%.1f\n",
         scene.c_str(), first.robots, first.threads, static_cast<unsigned long long>(first.ticks),
-        Median(sps), Median(load), Median(bpr), Median(lbpr), Median(cpu_ns),
+        Median(sps), Median(load), Median(teardown), Median(bpr), Median(lbpr), Median(cpu_ns),
         colony::StateHasher::Hex(first.hash).c_str(), Median(share[0]), Median(share[1]),
         Median(share[2]), Median(share[3]), Median(share[4]));
+    if (o.max_bytes_per_robot > 0 && Median(bpr) > static_cast<double>(o.max_bytes_per_robot)) {
+      std::printf("OVER BUDGET %s: %.0f bytes per robot at the peak, more than the %lld allowed\n",
+                  scene.c_str(), Median(bpr), o.max_bytes_per_robot);
+      status = 1;
+    }
     std::fflush(stdout);
   }
-  return 0;
+  return status;
 }
 
 }  // namespace

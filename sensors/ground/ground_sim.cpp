@@ -101,7 +101,12 @@ class GroundSystem : public SensorSystem {
   [[gnu::noinline]] void UpdateRange(size_t begin, size_t end) {
     const Space& space = sim().space();
     const Floor& floor = space.floor();
-    std::vector<uint32_t> near;  // per chunk, used only next to ditches
+    // This thread's list, kept from tick to tick so that a warm step does not
+    // allocate; taken once per chunk (a thread_local costs a lookup per use).
+    static thread_local std::vector<uint32_t> scratch;
+    std::vector<uint32_t>& near = scratch;
+    near.clear();
+    near.reserve(64);  // once per thread: enough for any crowd seen so far
     for (size_t k = begin; k < end; ++k) {
       GroundInstance& g = instances_[k];
       if (!g.alive) continue;

@@ -77,8 +77,12 @@ class LightSystem : public SensorSystem {
   void Update(size_t begin, size_t end) override {
     const Space& space = sim().space();
     const LightScene& scene = SceneOfThisTick();
-    std::vector<uint32_t> near;  // per chunk, for the occlusion checks
-    near.reserve(64);
+    // This thread's list, kept from tick to tick so that a warm step does not
+    // allocate; taken once per chunk (a thread_local costs a lookup per use).
+    static thread_local std::vector<uint32_t> scratch;
+    std::vector<uint32_t>& near = scratch;
+    near.clear();
+    near.reserve(64);  // once per thread: enough for any crowd seen so far
     for (size_t k = begin; k < end; ++k) {
       LightInstance& s = instances_[k];
       if (!s.alive) continue;

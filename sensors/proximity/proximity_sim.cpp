@@ -57,8 +57,12 @@ class ProximitySystem : public SensorSystem {
   // readings are exactly those of casting every ray at every gathered entity.
   void Update(size_t begin, size_t end) override {
     const Space& space = sim().space();
-    std::vector<uint32_t> near;  // per chunk (a thread_local costs a lookup per robot)
-    near.reserve(64);
+    // This thread's list, kept from tick to tick so that a warm step does not
+    // allocate; taken once per chunk (a thread_local costs a lookup per use).
+    static thread_local std::vector<uint32_t> scratch;
+    std::vector<uint32_t>& near = scratch;
+    near.clear();
+    near.reserve(64);  // once per thread: enough for any crowd seen so far
     for (size_t k = begin; k < end; ++k) {
       ProximityInstance& p = instances_[k];
       if (!p.alive) continue;
