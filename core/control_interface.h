@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -131,6 +132,28 @@ class RobotValues {
   ~RobotValues() = default;
 };
 
+class Controller;
+
+// The controllers of one configuration stepped together, once per tick, by
+// one object: a host of controllers written over arrays in another language
+// (Python's batched numpy controllers, docs/python.md). A controller asks
+// for one by returning it from Controller::NewBatch.
+class ControllerBatch {
+ public:
+  virtual ~ControllerBatch() = default;
+  // Called once per tick in phase 5 (sense + control), after every robot's
+  // sensors were read and every ControlStep ran, before the loop functions'
+  // post-step (so the commands it sets are those the next act phase
+  // applies). It runs on the thread that called Simulation::Step, never in
+  // parallel with anything else of the simulation, and batches are called
+  // in the order of their configurations in <controllers>, so it may do
+  // what ControlStep may not (take a language's global lock) and stays
+  // deterministic. `members`: the configuration's controllers alive now, in
+  // robot order (the order of their slots in the space). What it throws
+  // fails the run, as a throwing ControlStep does.
+  virtual void Step(const std::vector<Controller*>& members) = 0;
+};
+
 // Base of every robot controller. Subclass it, register it with
 // COLONY_REGISTER_CONTROLLER (core/registry.h), build it as a shared library.
 class Controller {
@@ -147,6 +170,13 @@ class Controller {
   // a reset run is the run a fresh load with that seed gives.
   virtual void Reset() {}
   virtual void Destroy() {}
+  // Called by the host once per configuration, on the first of its
+  // controllers it starts (after that one's Init): a batch to step every
+  // controller of the configuration together (see ControllerBatch), or null
+  // (the default) for controllers stepped one by one. The host owns the
+  // batch; it lives until the simulation is deleted or Reset. A ParamError
+  // it throws is reported as Init's are (the <params> attribute's line).
+  virtual std::unique_ptr<ControllerBatch> NewBatch() { return nullptr; }
   // This robot's named values for the per-robot table (see RobotValues):
   // called on the ticks the table records (tick 0 after Init, then after
   // ControlStep), never when no table is recorded. It must not change the

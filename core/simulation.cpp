@@ -187,6 +187,18 @@ void Simulation::AttachController(Robot& robot, int line) {
     }
     context_->diagnostics.ThrowIfAny();
   }
+  if (!config.batch_asked) {
+    config.batch_asked = true;
+    try {
+      config.batch = robot.controller->NewBatch();
+    } catch (const ParamError& e) {
+      at.Error(e.key(), e.value(), e.what());
+      context_->diagnostics.ThrowIfAny();
+    } catch (const std::exception& e) {
+      config.node.ElementError("controller '" + config.label + "' failed to start: " + e.what());
+      context_->diagnostics.ThrowIfAny();
+    }
+  }
 }
 
 void Simulation::RemoveEntity(EntityHandle entity) {
@@ -445,6 +457,34 @@ void Simulation::SenseAndControl() {
     throw RuntimeFailure("controller '" + r.config->label + "' of robot '" +
                          space_.id(r.entity.index) + "' failed at tick " +
                          std::to_string(tick_ + 1) + ": " + error_message);
+  }
+  StepBatches();
+}
+
+void Simulation::StepBatches() {
+  for (auto& config : controller_configs_) {
+    if (!config->batch) continue;
+    config->members.clear();
+    for (Robot& r : robots_) {
+      if (r.alive && r.config == config.get()) config->members.push_back(r.controller.get());
+    }
+    if (config->members.empty()) continue;
+    RunningScope running(
+        {"controller", config->label.c_str(), config->library, nullptr, tick_ + 1});
+    auto failed = [&](const std::string& message) {
+      return RuntimeFailure(config->node.file() + ":" + std::to_string(config->node.line()) +
+                            ": controller '" + config->label + "' (configuration '" + config->id +
+                            "', stepping its " + std::to_string(config->members.size()) +
+                            " robots together) failed at tick " + std::to_string(tick_ + 1) + ": " +
+                            message);
+    };
+    try {
+      config->batch->Step(config->members);
+    } catch (const std::exception& e) {
+      throw failed(e.what());
+    } catch (...) {
+      throw failed("it threw something that is not a std::exception");
+    }
   }
 }
 

@@ -2,7 +2,8 @@
 // a space, engines, sensor and actuator systems, controllers and loop
 // functions, and stepped tick by tick in the fixed order of DESIGN.md:
 //   1 act  2 physics (+ spatial index)  3 media  4 loop pre-step
-//   5 sense + control  6 loop post-step, metrics, stop conditions.
+//   5 sense + control (then the controller batches, ControllerBatch)
+//   6 loop post-step, metrics, stop conditions.
 // Building it (Create, AddEntity) is in core/simulation_create.cpp; the tick
 // in core/simulation.cpp.
 #pragma once
@@ -264,6 +265,12 @@ class Simulation {
     std::vector<ActuatorSystem*> actuators;
     std::vector<ConfigNode> sensor_nodes, actuator_nodes;
     bool params_checked = false;
+    // Controller::NewBatch of its first controller (null: none, or not
+    // asked yet), stepped by SenseAndControl with `members`, its controllers
+    // alive now in robot order (kept to step without allocating).
+    bool batch_asked = false;
+    std::unique_ptr<ControllerBatch> batch;
+    std::vector<Controller*> members;
   };
   struct Robot {
     EntityHandle entity;  // its id is the space's (a reference that stays valid)
@@ -341,6 +348,9 @@ class Simulation {
   void AttachController(Robot& robot, int line);
   void Act();
   void SenseAndControl();
+  // Steps the configurations' batches (ControllerBatch), serially, in the
+  // order of <controllers>. Throws RuntimeFailure naming the one that threw.
+  void StepBatches();
   bool SensorsAlignWithRobots() const;
   // Calls `call` on every loop functions, naming them (and `tick`, the tick
   // being computed) in what they throw and in a crash report.

@@ -20,19 +20,14 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
 #include "core/math.h"
 #include "core/simulation.h"
 #include "core/state_hash.h"
-#include "sensors/battery/battery.h"
-#include "sensors/ground/ground.h"
-#include "sensors/imu/imu.h"
-#include "sensors/light/light.h"
-#include "sensors/positioning/positioning.h"
-#include "sensors/proximity/proximity.h"
-#include "sensors/wheel_encoders/wheel_encoders.h"
+#include "python/device_arrays.h"
 
 namespace py = pybind11;
 
@@ -84,12 +79,87 @@ std::vector<std::string> SensorNames(const colony::Simulation& sim) {
   return names;
 }
 
-// A 2-D array of `rows` x `cols` doubles, filled with NaN.
-Array NanArray(size_t rows, size_t cols) {
-  Array a({rows, cols});
-  std::fill(a.mutable_data(), a.mutable_data() + rows * cols,
-            std::numeric_limits<double>::quiet_NaN());
-  return a;
+// The label of the controller kind whose robots Python drives (sim.actuators).
+constexpr const char* kExternal = "external_controller";
+
+// The actuator of the robot in `slot` declared with label or registered
+// name `name` in its controller's <actuators>, or null.
+colony::Actuator* ActuatorOf(const colony::Simulation& sim, uint32_t slot,
+                             const std::string& name) {
+  const colony::Controller* controller = sim.ControllerOf(sim.space().HandleOf(slot));
+  if (!controller) return nullptr;
+  const colony::DeviceTable& devices = controller->devices();
+  if (!devices.actuator_labels) return nullptr;
+  const auto& labels = *devices.actuator_labels;
+  for (size_t i = 0; i < labels.size(); ++i) {
+    if (labels[i] == name || (devices.actuator_names && (*devices.actuator_names)[i] == name)) {
+      return devices.actuators[i];
+    }
+  }
+  return nullptr;
+}
+
+bool IsExternal(const colony::Simulation& sim, uint32_t slot) {
+  return sim.ControllerLabelOf(sim.space().HandleOf(slot)) == kExternal;
+}
+
+// The registered names of every actuator a robot with an external controller
+// declares, in the order first met.
+std::vector<std::string> ActuatorNames(const colony::Simulation& sim) {
+  std::vector<std::string> names;
+  const colony::Space& space = sim.space();
+  for (uint32_t slot : RobotSlots(space)) {
+    if (!IsExternal(sim, slot)) continue;
+    const colony::DeviceTable& devices = sim.ControllerOf(space.HandleOf(slot))->devices();
+    for (size_t i = 0; i < devices.actuator_labels->size(); ++i) {
+      const std::string& name =
+          devices.actuator_names ? (*devices.actuator_names)[i] : (*devices.actuator_labels)[i];
+      if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+    }
+  }
+  return names;
+}
+
+// Actuator `name` of every robot with an external controller that carries
+// it, in sim.robots order: the instances, the robots' ids and rows.
+struct ExternalActuators {
+  std::vector<colony::Actuator*> actuators;
+  std::vector<std::string> ids;
+  std::vector<int64_t> robot_index;
+};
+
+ExternalActuators FindActuators(const colony::Simulation& sim, const std::string& name) {
+  ExternalActuators out;
+  const colony::Space& space = sim.space();
+  const std::vector<uint32_t> slots = RobotSlots(space);
+  std::string driven_by;  // a robot carrying it whose own controller sets it
+  for (size_t i = 0; i < slots.size(); ++i) {
+    colony::Actuator* a = ActuatorOf(sim, slots[i], name);
+    if (!a) continue;
+    if (!IsExternal(sim, slots[i])) {
+      if (driven_by.empty()) {
+        driven_by = "robot '" + space.id(slots[i]) + "' runs <" +
+                    sim.ControllerLabelOf(space.HandleOf(slots[i])) + ">";
+      }
+      continue;
+    }
+    out.actuators.push_back(a);
+    out.ids.push_back(space.id(slots[i]));
+    out.robot_index.push_back(static_cast<int64_t>(i));
+  }
+  if (!out.actuators.empty()) return out;
+  if (!driven_by.empty()) {
+    throw py::key_error("actuator '" + name +
+                        "' is carried only by robots whose controllers set it themselves (" +
+                        driven_by +
+                        "); Python sets the actuators of robots whose controller is "
+                        "an <external_controller> (docs/python.md)");
+  }
+  std::string there;
+  for (const auto& n : ActuatorNames(sim)) there += (there.empty() ? "" : ", ") + n;
+  throw py::key_error(
+      "no robot with an <external_controller> carries an actuator '" + name +
+      "' (actuators Python can set: " + (there.empty() ? std::string("none") : there) + ")");
 }
 
 // The readings of one sensor for every robot that carries it, as arrays:
@@ -102,56 +172,6 @@ struct SensorReadings {
   py::object angles = py::none();  // ring sensors: each reading's direction (rad)
   std::vector<std::string> columns;
 };
-
-// Copies ring readings (proximity, ground, light: value and angle per
-// sensor) into N x K arrays; a robot with fewer sensors than the widest has
-// NaN in the columns it lacks.
-template <class Ring>
-void FillRing(const std::vector<const Ring*>& rings, SensorReadings& out) {
-  size_t width = 0;
-  for (const Ring* r : rings) width = std::max(width, r->readings().size());
-  Array values = NanArray(rings.size(), width), angles = NanArray(rings.size(), width);
-  auto v = values.mutable_unchecked<2>();
-  auto a = angles.mutable_unchecked<2>();
-  for (size_t i = 0; i < rings.size(); ++i) {
-    const auto& readings = rings[i]->readings();
-    for (size_t k = 0; k < readings.size(); ++k) {
-      v(i, k) = readings[k].value;
-      a(i, k) = readings[k].angle;
-    }
-  }
-  out.values = values;
-  out.angles = angles;
-}
-
-// Copies a sensor whose reading is a few numbers per robot into an N x C
-// array (C = columns.size()), or N when `flat`.
-template <class S, class Read>
-void FillFixed(const std::vector<const S*>& sensors, std::vector<std::string> columns, bool flat,
-               Read read, SensorReadings& out) {
-  const size_t n = sensors.size(), c = columns.size();
-  Array values = flat ? Array(std::vector<size_t>{n}) : Array({n, c});
-  double* data = values.mutable_data();
-  for (size_t i = 0; i < n; ++i) read(*sensors[i], data + i * c);
-  out.values = values;
-  out.columns = std::move(columns);
-}
-
-// `sensors`, every one an instance of the same registered sensor, cast to
-// its control-interface class S.
-template <class S>
-std::vector<const S*> Cast(const std::vector<colony::Sensor*>& sensors) {
-  std::vector<const S*> typed;
-  typed.reserve(sensors.size());
-  for (colony::Sensor* s : sensors) typed.push_back(dynamic_cast<const S*>(s));
-  return typed;
-}
-
-// The kinds of sensor with an array form, by the control-interface class
-// their instances are.
-const char* const kArraySensors =
-    "proximity, ground, light (values and angles, N x K), wheel_encoders (N x 2), positioning "
-    "(N x 4), imu (N x 6), battery (N)";
 
 SensorReadings ReadSensor(const colony::Simulation& sim, const std::string& name) {
   SensorReadings out;
@@ -172,54 +192,14 @@ SensorReadings ReadSensor(const colony::Simulation& sim, const std::string& name
     throw py::key_error("no robot carries a sensor '" + name + "' (sensors carried: " +
                         (there.empty() ? std::string("none") : there) + ")");
   }
-  // Every robot's instance of one registered sensor is of one class: the
-  // first tells which.
-  const colony::Sensor* first = sensors.front();
-  if (dynamic_cast<const colony::ProximitySensor*>(first)) {
-    FillRing(Cast<colony::ProximitySensor>(sensors), out);
-  } else if (dynamic_cast<const colony::GroundSensor*>(first)) {
-    FillRing(Cast<colony::GroundSensor>(sensors), out);
-  } else if (dynamic_cast<const colony::LightSensor*>(first)) {
-    FillRing(Cast<colony::LightSensor>(sensors), out);
-  } else if (dynamic_cast<const colony::WheelEncoders*>(first)) {
-    FillFixed(
-        Cast<colony::WheelEncoders>(sensors), {"distance_left", "distance_right"}, false,
-        [](const colony::WheelEncoders& s, double* row) {
-          row[0] = s.distance_left();
-          row[1] = s.distance_right();
-        },
-        out);
-  } else if (dynamic_cast<const colony::PositioningSensor*>(first)) {
-    FillFixed(
-        Cast<colony::PositioningSensor>(sensors), {"x", "y", "z", "yaw"}, false,
-        [](const colony::PositioningSensor& s, double* row) {
-          row[0] = s.x();
-          row[1] = s.y();
-          row[2] = s.z();
-          row[3] = s.yaw();
-        },
-        out);
-  } else if (dynamic_cast<const colony::Imu*>(first)) {
-    FillFixed(
-        Cast<colony::Imu>(sensors),
-        {"angular_velocity_x", "angular_velocity_y", "angular_velocity_z", "acceleration_x",
-         "acceleration_y", "acceleration_z"},
-        false,
-        [](const colony::Imu& s, double* row) {
-          for (int k = 0; k < 3; ++k) {
-            row[k] = s.angular_velocity()[k];
-            row[3 + k] = s.acceleration()[k];
-          }
-        },
-        out);
-  } else if (dynamic_cast<const colony::Battery*>(first)) {
-    FillFixed(
-        Cast<colony::Battery>(sensors), {"level"}, true,
-        [](const colony::Battery& s, double* row) { row[0] = s.level(); }, out);
-  } else {
-    throw py::key_error("sensor '" + name +
-                        "' has no array form in Python yet; those that have: " + kArraySensors);
+  colony::python::SensorArrays arrays;
+  if (!colony::python::ReadSensorArrays(sensors, true, arrays)) {
+    throw py::key_error("sensor '" + name + "' has no array form in Python yet; those that have: " +
+                        colony::python::kArraySensors);
   }
+  out.values = arrays.values;
+  out.angles = arrays.angles;
+  out.columns = std::move(arrays.columns);
   return out;
 }
 
@@ -354,6 +334,42 @@ class PySimulation {
     return SensorNames(*sim_);
   }
 
+  // Actuator `name` of the robots with an external controller: their ids
+  // and rows in sim.robots.
+  std::pair<std::vector<std::string>, py::array_t<int64_t>> ActuatorRobots(
+      const std::string& name) const {
+    const Guard guard(*this);
+    ExternalActuators found = FindActuators(*sim_, name);
+    return {found.ids, py::array_t<int64_t>(static_cast<py::ssize_t>(found.robot_index.size()),
+                                            found.robot_index.data())};
+  }
+  // Writes `command` into actuator `name` of every robot with an external
+  // controller carrying it; the next tick's act phase applies it.
+  void SetActuator(const std::string& name, py::handle command) {
+    const Guard guard(*this);
+    ExternalActuators found = FindActuators(*sim_, name);
+    if (!colony::python::WriteActuatorArrays(found.actuators, found.ids, name, command)) {
+      throw py::key_error(
+          "actuator '" + name +
+          "' takes no arrays from Python yet; those that do: " + colony::python::kArrayActuators);
+    }
+  }
+  py::object GetActuator(const std::string& name) const {
+    const Guard guard(*this);
+    ExternalActuators found = FindActuators(*sim_, name);
+    py::object out = colony::python::ReadActuatorArrays(found.actuators);
+    if (out.is_none()) {
+      throw py::key_error(
+          "actuator '" + name +
+          "' takes no arrays from Python yet; those that do: " + colony::python::kArrayActuators);
+    }
+    return out;
+  }
+  std::vector<std::string> Actuators() const {
+    const Guard guard(*this);
+    return ActuatorNames(*sim_);
+  }
+
   const colony::Simulation& sim() const { return *sim_; }
 
  private:
@@ -485,5 +501,9 @@ PYBIND11_MODULE(_colony, m) {
       .def("_orientations", &PySimulation::Orientations)
       .def("_yaw", &PySimulation::Yaw)
       .def("_sensor", &PySimulation::Sensor, py::arg("name"))
-      .def("_sensor_names", &PySimulation::Sensors);
+      .def("_sensor_names", &PySimulation::Sensors)
+      .def("_actuator_robots", &PySimulation::ActuatorRobots, py::arg("name"))
+      .def("_set_actuator", &PySimulation::SetActuator, py::arg("name"), py::arg("command"))
+      .def("_get_actuator", &PySimulation::GetActuator, py::arg("name"))
+      .def("_actuator_names", &PySimulation::Actuators);
 }

@@ -33,7 +33,7 @@ from . import results  # noqa: E402  (pandas is imported when a table is first r
 for _cls in (Error, ConfigError, RuntimeFailure, SensorReadings):
     _cls.__module__ = "colony"  # colony.ConfigError in tracebacks, not colony._colony.ConfigError
 
-__all__ = ["Simulation", "Robots", "Sensors", "SensorReadings", "Error", "ConfigError",
+__all__ = ["Simulation", "Robots", "Sensors", "SensorReadings", "Actuators", "ActuatorCommands", "Error", "ConfigError",
            "RuntimeFailure", "results"]
 
 
@@ -105,6 +105,66 @@ class Sensors:
         return f"<colony.Sensors: {', '.join(self.keys())}>"
 
 
+class ActuatorCommands:
+    """One actuator of every robot whose controller is an <external_controller> and that carries
+    it, in sim.robots order (`ids`, `robot_index`). set() writes commands that the next tick's
+    act phase applies, as a C++ controller's calls would; get() reads them back."""
+
+    def __init__(self, sim, name):
+        self._sim = sim
+        self.name = name
+        self.ids, self.robot_index = sim._actuator_robots(name)
+
+    def set(self, *command):
+        """differential_steering: set(left, right), each a number or one float per robot (m/s),
+        or set(array N x 2). leds: set(colours), 0..255 integers, shape (3,), (N, 3) or (N, K, 3).
+        Wrong shapes raise ValueError, values that are not finite numbers ValueError naming the
+        robot; a wheel speed beyond the wheels' limit runs at the limit with a warning once per
+        robot, as for a C++ controller."""
+        if len(command) == 1:
+            command = command[0]
+        self._sim._set_actuator(self.name, command)
+
+    def get(self):
+        """The commands the actuators hold: differential_steering N x 2 (left, right m/s), leds
+        N x K x 3 uint8."""
+        return self._sim._get_actuator(self.name)
+
+    def __len__(self):
+        return len(self.ids)
+
+    def __repr__(self):
+        return f"<colony.ActuatorCommands '{self.name}' of {len(self)} robots>"
+
+
+class Actuators:
+    """The actuators Python sets: those of robots whose controller is an <external_controller>,
+    by registered name or element name (`differential_steering`, `leds`)."""
+
+    def __init__(self, sim):
+        self._sim = sim
+
+    def __getitem__(self, name):
+        if not isinstance(name, str):
+            raise TypeError(f"actuator names are str, not {type(name).__name__}")
+        return ActuatorCommands(self._sim, name)
+
+    def __contains__(self, name):
+        return name in self._sim._actuator_names()
+
+    def __iter__(self):
+        return iter(self._sim._actuator_names())
+
+    def __len__(self):
+        return len(self._sim._actuator_names())
+
+    def keys(self):
+        return self._sim._actuator_names()
+
+    def __repr__(self):
+        return f"<colony.Actuators: {', '.join(self.keys())}>"
+
+
 class Simulation(_colony.Simulation):
     """An experiment loaded from an XML file, stepped from Python.
 
@@ -126,6 +186,10 @@ class Simulation(_colony.Simulation):
     @property
     def sensors(self):
         return Sensors(self)
+
+    @property
+    def actuators(self):
+        return Actuators(self)
 
     def __repr__(self):
         return (f"<colony.Simulation {self.file!r}: {self.robot_count} robots, tick {self.tick}"
