@@ -33,6 +33,7 @@ labels.setSize(window.innerWidth, window.innerHeight);
 labels.domElement.style.position = 'absolute';
 labels.domElement.style.top = '0';
 labels.domElement.style.pointerEvents = 'none';
+labels.domElement.style.zIndex = '0';  // its labels' own z-indexes stay under the panels
 view.appendChild(labels.domElement);
 
 const camera = new THREE.PerspectiveCamera(45, window.innerWidth / window.innerHeight, 0.01, 1000);
@@ -76,6 +77,7 @@ world.add(drawnGroup);
 let trails = [];  // per mover: a Float32Array ring of x, y, z and how many it holds
 let trailHead = 0, trailCount = 0;
 let drawnCount = { points: 0, lines: 0, circles: 0, texts: 0 };
+let overlayLines = 0;  // segments the overlays hold (trails, rays, links)
 
 // --- Parts of robots, in robot units -------------------------------------
 
@@ -467,7 +469,7 @@ function rebuildOverlays() {
     }
   }
   document.body.dataset.overlays = Object.keys(overlays).filter((k) => overlays[k]).join(',');
-  document.body.dataset.overlayLines = lines.length / 6;
+  overlayLines = lines.length / 6;
   needsRender = true;
 }
 
@@ -751,6 +753,7 @@ function animate() {
   labels.render(world, camera);
   if (framesApplied) {
     document.body.dataset.drawn = `${drawnCount.points} ${drawnCount.lines} ${drawnCount.circles} ${drawnCount.texts}`;
+    document.body.dataset.overlayLines = overlayLines;  // once drawn, with their labels
     document.body.dataset.robotsDrawn = movers.filter((m) => m.desc.robot).length;
     document.body.dataset.moversDrawn = movers.length;
   }
