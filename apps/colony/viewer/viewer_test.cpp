@@ -1215,6 +1215,32 @@ TEST(Viewer, ChromiumShowsWhatTheLoopFunctionsDrawAndTheIdOverlay) {
   std::ofstream(shot, std::ios::binary) << png;
 }
 
+// The trails overlay, on while the run plays, keeps each robot's positions
+// from the frames: a segment per robot per frame after the first.
+TEST(Viewer, ChromiumTrailsGrowAsTheRunPlays) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!std::filesystem::exists(chromium))
+    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
+  auto sim = LoadDiffusion();
+  ServeOptions options;
+  options.start_playing = true;
+  Served served(*sim, options);
+  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
+  std::filesystem::create_directories(dir);
+  DevToolsBrowser browser;
+  ASSERT_EQ(browser.Start(chromium, dir + "/profile_trails"), "");
+  browser.Open(served.url() + "?overlays=trails");
+  json lines;
+  for (int k = 0; k < 300; ++k) {
+    std::this_thread::sleep_for(100ms);
+    lines = browser.Evaluate("Number(document.body.dataset.overlayLines || 0)");
+    if (lines.is_number() && lines.get<int>() >= 5 * kRobots) break;
+  }
+  ASSERT_TRUE(lines.is_number());
+  EXPECT_GE(lines.get<int>(), 5 * kRobots) << "not 6 frames' trails after 30 s";
+  EXPECT_EQ(lines.get<int>() % kRobots, 0) << "every robot's trail grows by one a frame";
+}
+
 // The served program's first line that holds its URL (log lines may come
 // first); "" after `limit` lines or at the end of its output.
 std::string UrlLine(FILE* out, int limit = 20) {
