@@ -41,6 +41,8 @@ struct Sinks {
   bool file_is_stderr = false;  // standard error is the log file itself
   bool status_active = false;
   std::string status;  // kEraseLine + the status line's text
+  RobotLogListener robot_listener = nullptr;
+  void* robot_listener_context = nullptr;
 
   // `text` (whole lines) to standard error, under the status line if any.
   void WriteTerminal(const std::string& text) {
@@ -91,6 +93,9 @@ void Emit(LogLevel level, const char* robot, const std::string& message) {
   std::lock_guard lock(s.mutex);
   const bool terminal = static_cast<int>(level) <= g_terminal_level.load() || s.file_is_stderr;
   if (terminal) s.WriteTerminal(line);
+  if (s.robot_listener && robot && *robot) {
+    s.robot_listener(s.robot_listener_context, robot, tick, level, message);
+  }
   if (s.file) {
     s.WriteFile(line);
   } else if (s.holding) {
@@ -120,6 +125,13 @@ void Log(LogLevel level, const std::string& message) { Emit(level, nullptr, mess
 
 void LogFor(LogLevel level, const std::string& robot, const std::string& message) {
   Emit(level, robot.c_str(), message);
+}
+
+void SetRobotLogListener(RobotLogListener listener, void* context) {
+  Sinks& s = TheSinks();
+  std::lock_guard lock(s.mutex);
+  s.robot_listener = listener;
+  s.robot_listener_context = context;
 }
 
 void SetLogTick(uint64_t tick) { g_tick = static_cast<int64_t>(tick); }

@@ -43,6 +43,16 @@ inline void LogWarning(const std::string& message) { Log(LogLevel::kWarning, mes
 inline void LogInfo(const std::string& message) { Log(LogLevel::kInfo, message); }
 inline void LogDebug(const std::string& message) { Log(LogLevel::kDebug, message); }
 
+// Sees every line logged about a robot, as it is logged (the live viewer
+// keeps each robot's last lines while it serves a run): the robot's id, the
+// tick (-1: none), the level and the message. Lines of levels not logged
+// (SetLogLevel) never reach it. Called on the logging thread (a pool thread
+// for a controller) under the log's lock: it must be quick and must not log.
+using RobotLogListener = void (*)(void* context, std::string_view robot, int64_t tick,
+                                  LogLevel level, std::string_view message);
+// Installs `listener` (nullptr: none) with the `context` it is called with.
+void SetRobotLogListener(RobotLogListener listener, void* context);
+
 // The tick shown in lines logged outside plugin code (actuators, engines,
 // renderers...): the program stepping the simulation sets it to the tick
 // being computed, and to the last tick once the run is done. Until set, and

@@ -5,6 +5,7 @@
 
 #include "core/color.h"
 #include "core/control_interface.h"
+#include "core/drawing.h"
 #include "core/registry.h"
 #include "core/simulation_bound.h"
 #include "core/space.h"
@@ -39,6 +40,15 @@ class LoopFunctions : public SimulationBound {
     return Color::White();
   }
   virtual void Destroy() {}
+  // Shapes drawn in the world for whoever watches (as ARGoS's DrawInWorld):
+  // points, lines, circles and text at world coordinates (core/drawing.h),
+  // shown by the live viewer and in rendered frames. Called between ticks,
+  // on the thread that steps, only when something shows them: once per
+  // frame a viewer sends or a renderer draws, never in a run nobody
+  // watches. `list` is empty on entry; what is added replaces the last
+  // call's. It must not change the simulation (draw no random numbers,
+  // move nothing): a drawn run's results are the undrawn run's.
+  virtual void Draw(DrawList& list) const { (void)list; }
   // Per-robot columns of the per-robot table (<output trajectories_every>;
   // see RobotValues in core/control_interface.h): called for every robot
   // on the ticks the table records, after its controller's RecordValues.

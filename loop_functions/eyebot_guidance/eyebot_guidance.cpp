@@ -9,6 +9,10 @@
 //            the first time it was marked; -1 until then), reached (foot-bots
 //            within reach_radius now), reach_time (s, the first time k were;
 //            -1 until then), success (0/1)
+//   drawn (LoopFunctions::Draw, in the viewer and rendered frames): the
+//           reach circle (a green disc), the mark circle (yellow; red once
+//           marked), a line from the target to each foot-bot within reach,
+//           and "reached N/k" above the target
 #include <cmath>
 #include <string>
 #include <vector>
@@ -67,6 +71,7 @@ class EyebotGuidance : public LoopFunctions {
       const auto spot = CastLaser(space, s);
       if (spot && (spot->point.head<2>() - target).norm() <= mark_radius_) marked = true;
     }
+    marked_ = marked;
     if (marked && mark_time_ < 0) mark_time_ = sim().time();
     int reached = 0;
     for (uint32_t s : footbots_) {
@@ -83,12 +88,30 @@ class EyebotGuidance : public LoopFunctions {
 
   bool IsExperimentFinished() override { return stop_ && reach_time_ >= 0; }
 
+  void Draw(DrawList& list) const override {
+    const Space& space = sim().space();
+    const Vec3 target = space.pose(target_.index).position;
+    list.AddCircle(target, reach_radius_, Color{40, 200, 60, 90}, /*filled=*/true);
+    list.AddCircle(target, mark_radius_,
+                   marked_ ? Color{255, 30, 30, 255} : Color{255, 220, 0, 255});
+    int reached = 0;
+    for (uint32_t s : footbots_) {
+      if (!space.alive(s)) continue;
+      const Vec3& p = space.pose(s).position;
+      if ((p.head<2>() - target.head<2>()).norm() > reach_radius_) continue;
+      list.AddSegment(target, p, Color{40, 200, 60, 255});
+      ++reached;
+    }
+    list.AddText(target + Vec3(0, 0, 0.3),
+                 "reached " + std::to_string(reached) + "/" + std::to_string(k_), Color::White());
+  }
+
  private:
   EntityHandle target_;
   std::vector<uint32_t> eyebots_, footbots_;
   double mark_radius_ = 0, reach_radius_ = 0, mark_time_ = -1, reach_time_ = -1;
   int k_ = 0;
-  bool stop_ = true;
+  bool stop_ = true, marked_ = false;
 };
 
 COLONY_REGISTER_LOOP_FUNCTIONS(

@@ -12,7 +12,7 @@ namespace colony::render {
 int TextWidth(std::string_view text, int scale);
 // Draws `text` centred on column `center_x` with its top at row `top`, in
 // `color` with a one-pixel dark outline; clipped to the image. Letters,
-// digits and - _ . : are drawn; any other character as '?'.
+// digits, spaces and - _ . : / , = + ( ) % are drawn; any other character as '?'.
 void DrawText(Image& image, int center_x, int top, std::string_view text, int scale, Color color);
 
 }  // namespace colony::render

@@ -105,6 +105,13 @@ void OffscreenRenderer::Draw(const Space& space, const SceneBatch& batch, const 
   DrawArrays(GL_TRIANGLES, batch.triangles);
   glEnable(GL_BLEND);
   DrawArrays(GL_LINES, batch.lines);
+  // Drawn shapes blend over what they cover without hiding what is behind them.
+  glDepthMask(GL_FALSE);
+  DrawArrays(GL_TRIANGLES, batch.drawn_triangles);
+  glLineWidth(static_cast<float>(2 * s));
+  DrawArrays(GL_LINES, batch.drawn_lines);
+  glLineWidth(static_cast<float>(s));
+  glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
   glFinish();
   OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);

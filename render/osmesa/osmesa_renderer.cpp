@@ -340,6 +340,8 @@ class OsmesaRenderer : public Renderer {
       if (proximity_rays_ && (space.flags(i) & kRobot)) AddProximityRays(sim(), i, batch_);
     }
     AddLaserSpots(sim(), batch_, true);
+    DrawLoopFunctions(sim(), drawing_);
+    AddDrawing(drawing_, batch_);
   }
 
   // Coarse when the entity is small in every camera's image.
@@ -376,6 +378,7 @@ class OsmesaRenderer : public Renderer {
   void DrawFrame(const std::string& camera, const View& view) {
     const auto t0 = Clock::now();
     renderer_->Draw(sim().space(), batch_, view, {background_, antialias_}, image_);
+    DrawPointsAndText(drawing_, view, image_);
     if (ids_) DrawRobotIds(sim().space(), view, image_);
     const auto t1 = Clock::now();
     char name[32];
@@ -405,6 +408,7 @@ class OsmesaRenderer : public Renderer {
   std::unique_ptr<OffscreenRenderer> renderer_;
   std::vector<View> views_;  // this frame's, one per camera
   SceneBatch batch_;
+  DrawList drawing_;  // what the loop functions draw this frame
   Image image_;
   uint64_t frames_ = 0;
   double draw_seconds_ = 0, write_seconds_ = 0;

@@ -6,6 +6,7 @@
 #include <deque>
 #include <vector>
 
+#include "core/drawing.h"
 #include "core/math.h"
 #include "render/osmesa/image.h"
 #include "render/osmesa/scene.h"
@@ -38,6 +39,14 @@ class Trails {
 // proximity ring): to the nearest hit within the ring's nominal range, or
 // over the whole range when nothing is in it.
 void AddProximityRays(const Simulation& sim, uint32_t slot, SceneBatch& batch);
+
+// What loop functions drew (core/drawing.h): lines and circles into the
+// batch (a circle as 64 sides), raised 1 mm so that shapes on the floor
+// stay above it.
+void AddDrawing(const DrawList& drawing, SceneBatch& batch);
+// Points (squares of their size) and text, over the finished image where
+// `view` sees them.
+void DrawPointsAndText(const DrawList& drawing, const View& view, Image& image);
 
 // Writes each robot's id above it.
 void DrawRobotIds(const Space& space, const View& view, Image& image);

@@ -14,7 +14,9 @@
 
 #include "actuators/handbot_arms/handbot_arms_state.h"
 #include "actuators/rope_launcher/rope_state.h"
+#include "core/drawing.h"
 #include "core/image_renderer.h"
+#include "core/loop_functions.h"
 #include "core/output.h"
 #include "core/registry.h"
 #include "entities/eyebot/eyebot.h"
@@ -285,6 +287,97 @@ TEST_F(Rendering, TrailsFollowTheRobots) {
   const Color behind = png.At(100 - 60, 100);        // x = -0.35
   EXPECT_GT(behind.b, behind.r + 30) << Hex(behind);
   ExpectNear(png.At(100 - 60, 130), Color::White(), 0, "beside the trail");
+}
+
+// Draws a yellow disc of radius 0.3 m at the origin, a magenta segment along
+// y = 0.4, a cyan point at (0, -0.4) and "hi" above (-0.3, -0.2); counts
+// the calls, and reads the space to place a green point on every robot.
+class DrawingLoop : public LoopFunctions {
+ public:
+  static inline int draws = 0;
+  void Draw(DrawList& list) const override {
+    ++draws;
+    list.AddCircle(Vec3(0, 0, 0), 0.3, Color{255, 200, 0, 255}, true);
+    list.AddSegment(Vec3(-0.5, 0.4, 0), Vec3(0.5, 0.4, 0), Color{255, 0, 255, 255});
+    list.AddPoint(Vec3(0, -0.4, 0), Color{0, 255, 255, 255}, 8);
+    list.AddText(Vec3(-0.3, -0.2, 0), "hi");
+    const Space& space = sim().space();
+    for (uint32_t i = 0; i < space.slots(); ++i) {
+      if (space.alive(i) && (space.flags(i) & kRobot))
+        list.AddPoint(space.pose(i).position, Color{0, 255, 0, 255}, 4);
+    }
+  }
+};
+COLONY_REGISTER_LOOP_FUNCTIONS(DrawingLoop, "render_test_drawing",
+                               "test: draws a disc, a segment, a point and text", {});
+
+const std::string kDrawingLoop = "<loop_functions label=\"render_test_drawing\"/>";
+
+TEST_F(Rendering, WhatLoopFunctionsDrawIsInTheFrameWhereTheyDrewIt) {
+  const Color floor{40, 90, 200, 255};
+  DrawingLoop::draws = 0;
+  Render(Experiment(
+      "<floor color=\"" + Hex(floor) + "\"/>", "", "4,4,1",
+      kDrawingLoop + Visualization("width=\"200\" height=\"200\" grid=\"0\"", TopCamera("0,0"))));
+  EXPECT_EQ(DrawingLoop::draws, 1);
+  const Png png = ReadPng(dir_ / "top_000000.png");
+  // 1 m below a 60-degree camera, 200 pixels span 1.155 m: 173 pixels a metre.
+  auto px = [](double metres) { return static_cast<int>(std::lround(173.2 * metres)); };
+  // The disc: yellow 0.15 and 0.25 m from its centre, the floor 0.35 m out.
+  for (const auto& [x, y] :
+       {std::pair{100 + px(0.15), 100}, {100, 100 - px(0.25)}, {100 - px(0.2), 100 + px(0.1)}}) {
+    ExpectNear(png.At(x, y), Color{255, 200, 0, 255}, 2,
+               std::to_string(x) + "," + std::to_string(y));
+  }
+  ExpectNear(png.At(100 + px(0.35), 100), floor, 1, "outside the disc");
+  // The segment along y = 0.4 (row 31), two pixels wide.
+  int magenta = 0;
+  for (int y = 100 - px(0.4) - 2; y <= 100 - px(0.4) + 2; ++y) {
+    const Color c = png.At(100 - px(0.45), y);
+    magenta += c.r > 200 && c.g < 60 && c.b > 200;
+  }
+  EXPECT_GE(magenta, 1) << "no magenta across y = 0.4";
+  ExpectNear(png.At(100, 100 - px(0.4) - 8), floor, 1, "beside the segment");
+  // The point: an 8-pixel cyan square at (0, -0.4).
+  ExpectNear(png.At(100, 100 + px(0.4)), Color{0, 255, 255, 255}, 0, "the point");
+  ExpectNear(png.At(100 + 8, 100 + px(0.4)), floor, 1, "beside the point");
+  // The text: white pixels just above (-0.3, -0.2), none elsewhere.
+  int white_near = 0, white = 0;
+  for (int y = 0; y < png.height; ++y) {
+    for (int x = 0; x < png.width; ++x) {
+      const Color c = png.At(x, y);
+      if (c.r < 240 || c.g < 240 || c.b < 240) continue;
+      ++white;
+      white_near +=
+          std::abs(x - (100 - px(0.3))) < 12 && y < 100 + px(0.2) && y > 100 + px(0.2) - 14;
+    }
+  }
+  EXPECT_GT(white_near, 10);
+  EXPECT_EQ(white_near, white);
+}
+
+TEST_F(Rendering, LoopFunctionsDrawOnlyForFramesAndDrawingChangesNoResults) {
+  const std::string controllers =
+      "<diffusion id=\"dc\" library=\"diffusion\"><actuators><differential_steering/>"
+      "</actuators><sensors><proximity/></sensors><params alpha=\"7.5\" delta=\"0.1\" "
+      "velocity=\"0.1\"/></diffusion>";
+  const std::string arena =
+      "<distribute><position method=\"uniform\" min=\"-1.5,-1.5,0\" max=\"1.5,1.5,0\"/>"
+      "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/><entity "
+      "quantity=\"20\"><marxbot id=\"mb\"><controller config=\"dc\"/></marxbot></entity>"
+      "</distribute>";
+  auto run = [&](const std::string& visualization) {
+    auto sim = LoadXml(Experiment(arena, controllers, "4,4,1", kDrawingLoop + visualization));
+    for (const auto& r : sim->renderers()) r->set_output_dir(dir_.string());
+    return RunToEnd(*sim, nullptr, 0, {}).final_state_hash;
+  };
+  DrawingLoop::draws = 0;
+  const uint64_t plain = run("");
+  EXPECT_EQ(DrawingLoop::draws, 0) << "nothing showed the drawing, so nothing asked for it";
+  const uint64_t drawn =
+      run(Visualization("width=\"160\" height=\"120\" every=\"5\"", TopCamera("0,0")));
+  EXPECT_EQ(DrawingLoop::draws, 21);  // ticks 0, 5, ..., 100
+  EXPECT_EQ(drawn, plain);
 }
 
 TEST_F(Rendering, DefaultCameraSeesTheWholeArena) {

@@ -29,11 +29,16 @@ struct SceneBatch {
   // Lines on the floor, under everything else: thin (grid) and wide (trails).
   std::vector<Vertex> floor_lines, wide_floor_lines;
   std::vector<Vertex> lines;  // depth-tested (sensor rays)
+  // What loop functions draw (core/drawing.h): depth-tested and blended, over
+  // everything else; lines wide.
+  std::vector<Vertex> drawn_triangles, drawn_lines;
   void Clear() {
     triangles.clear();
     floor_lines.clear();
     wide_floor_lines.clear();
     lines.clear();
+    drawn_triangles.clear();
+    drawn_lines.clear();
   }
 };
 

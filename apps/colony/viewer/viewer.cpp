@@ -18,6 +18,7 @@
 #include <random>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "actuators/differential_steering/differential_steering.h"
 #include "actuators/gripper/gripper.h"
@@ -26,7 +27,9 @@
 #include "apps/colony/viewer/frame_source.h"
 #include "apps/colony/viewer/ws_hub.h"
 #include "core/crash_report.h"
+#include "core/drawing.h"
 #include "core/error.h"
+#include "core/geometry2d.h"
 #include "core/log.h"
 #include "core/simulation.h"
 #include "sensors/battery/battery.h"
@@ -68,6 +71,10 @@ constexpr auto kIdlePoll = std::chrono::milliseconds(50);
 // record per mover, in the order of the scene's "movers".
 constexpr uint32_t kFrameMagic = 0x31464C43;  // "CLF1" as little-endian bytes
 constexpr size_t kFrameHeaderBytes = 16, kFrameRecordBytes = 20;
+// What loop functions draw (core/drawing.h) follows the records, when they
+// draw anything: "CLD1", four counts, then the points, lines, circles and
+// texts (docs/viewer.md).
+constexpr uint32_t kDrawingMagic = 0x31444C43;  // "CLD1"
 static_assert(std::endian::native == std::endian::little,
               "frames are written as little-endian memory images");
 
@@ -390,9 +397,69 @@ std::string SceneJson(const Simulation& sim, const std::vector<uint32_t>& movers
   return scene.dump();
 }
 
+// Appends little-endian memory images of values to a frame.
+class FrameWriter {
+ public:
+  explicit FrameWriter(std::string& out) : out_(out) {}
+  template <class T>
+  void Put(T value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const size_t at = out_.size();
+    out_.resize(at + sizeof value);
+    std::memcpy(out_.data() + at, &value, sizeof value);
+  }
+  void PutXyz(const Vec3& v) {
+    Put(static_cast<float>(v.x()));
+    Put(static_cast<float>(v.y()));
+    Put(static_cast<float>(v.z()));
+  }
+  void PutRgba(Color c) {
+    for (uint8_t channel : {c.r, c.g, c.b, c.a}) Put(channel);
+  }
+
+ private:
+  std::string& out_;
+};
+
+// The drawing section: "CLD1", the counts of points, lines, circles and
+// texts, then each (docs/viewer.md).
+void AppendDrawing(const DrawList& drawing, std::string& frame) {
+  FrameWriter w(frame);
+  w.Put(kDrawingMagic);
+  for (size_t n : {drawing.points().size(), drawing.lines().size(), drawing.circles().size(),
+                   drawing.texts().size()}) {
+    w.Put(static_cast<uint32_t>(n));
+  }
+  for (const DrawList::Point& p : drawing.points()) {
+    w.PutXyz(p.position);
+    w.Put(p.size);
+    w.PutRgba(p.color);
+  }
+  for (const DrawList::Line& l : drawing.lines()) {
+    w.Put(l.count);
+    w.PutRgba(l.color);
+    w.Put(static_cast<uint8_t>(l.closed));
+    for (uint32_t k = l.first; k < l.first + l.count; ++k) w.PutXyz(drawing.line_points()[k]);
+  }
+  for (const DrawList::Circle& c : drawing.circles()) {
+    w.PutXyz(c.center);
+    w.Put(static_cast<float>(c.radius));
+    w.PutRgba(c.color);
+    w.Put(static_cast<uint8_t>(c.filled));
+  }
+  for (const DrawList::Text& t : drawing.texts()) {
+    w.PutXyz(t.position);
+    w.PutRgba(t.color);
+    w.Put(static_cast<uint16_t>(t.text.size()));
+    frame += t.text;
+  }
+}
+
 // One frame: header (magic, mover count, tick), then per mover x, y, z, yaw
-// (float32) and the colour it shows (its first LED, else its body colour).
-std::string EncodeFrame(const Simulation& sim, uint64_t tick, const std::vector<uint32_t>& movers) {
+// (float32) and the colour it shows (its first LED, else its body colour);
+// then what the loop functions drew, if anything.
+std::string EncodeFrame(const Simulation& sim, uint64_t tick, const std::vector<uint32_t>& movers,
+                        const DrawList& drawing) {
   const Space& space = sim.space();
   std::string frame(kFrameHeaderBytes + kFrameRecordBytes * movers.size(), '\0');
   char* out = frame.data();
@@ -414,6 +481,7 @@ std::string EncodeFrame(const Simulation& sim, uint64_t tick, const std::vector<
     out[18] = static_cast<char>(c.b);
     out += kFrameRecordBytes;
   }
+  if (!drawing.empty()) AppendDrawing(drawing, frame);
   return frame;
 }
 
@@ -517,10 +585,85 @@ class JsonValues : public RobotValues {
   json values_ = json::object();
 };
 
+// Each robot's last log lines (core/log.h: lines about a robot, its
+// controller's own and LogFor's), kept while a run is served, for the
+// inspect reply. Lines come from any thread (controllers log from the pool).
+class RobotLog {
+ public:
+  static constexpr size_t kLinesPerRobot = 10, kMaxLineBytes = 300;
+
+  RobotLog() { SetRobotLogListener(&RobotLog::Listen, this); }
+  ~RobotLog() { SetRobotLogListener(nullptr, nullptr); }
+  RobotLog(const RobotLog&) = delete;
+  RobotLog& operator=(const RobotLog&) = delete;
+
+  // The lines of robot `id`, oldest first.
+  json LinesOf(const std::string& id) const {
+    std::lock_guard lock(mutex_);
+    json out = json::array();
+    if (const auto it = lines_.find(id); it != lines_.end()) {
+      for (const std::string& line : it->second) out.push_back(line);
+    }
+    return out;
+  }
+  void Clear() {
+    std::lock_guard lock(mutex_);
+    lines_.clear();
+  }
+
+ private:
+  static void Listen(void* context, std::string_view robot, int64_t tick, LogLevel level,
+                     std::string_view message) {
+    auto* self = static_cast<RobotLog*>(context);
+    std::string line = (tick >= 0 ? "[tick " + std::to_string(tick) + "] " : std::string()) +
+                       LogLevelName(level) + ": " + std::string(message.substr(0, kMaxLineBytes));
+    std::lock_guard lock(self->mutex_);
+    auto& lines = self->lines_[std::string(robot)];
+    lines.push_back(std::move(line));
+    if (lines.size() > kLinesPerRobot) lines.pop_front();
+  }
+
+  mutable std::mutex mutex_;
+  std::map<std::string, std::deque<std::string>, std::less<>> lines_;
+};
+
+// The proximity ring's rays of the robot in `slot`, for the page's "rays"
+// overlay: [x0, y0, z, x1, y1, hit] each, from the ring to the nearest
+// solid entity within the ring's range (hit 1) or over the whole range
+// (hit 0); none without a proximity ring. Only for the inspected robot.
+json ProximityRays(const Simulation& sim, uint32_t slot) {
+  json rays = json::array();
+  const Space& space = sim.space();
+  const RingMount* ring = sim.MountsOf(space.HandleOf(slot)).Ring("proximity");
+  if (!ring) return rays;
+  const Pose& pose = space.pose(slot);
+  const Vec2 c = pose.position.head<2>();
+  const double z = pose.position.z() + ring->elevation, reach = ring->radius + ring->range;
+  std::vector<uint32_t> near;
+  space.Gather(c.x() - reach, c.y() - reach, c.x() + reach, c.y() + reach, near);
+  std::erase_if(near, [&](uint32_t o) {
+    const double bottom = space.pose(o).position.z();
+    return o == slot || !(space.flags(o) & kSolid) || z < bottom ||
+           z >= bottom + space.geometry(o).height();
+  });
+  const double yaw = YawOf(pose.orientation);
+  for (int i = 0; i < ring->count; ++i) {
+    const double a = yaw + ring->AngleOf(i);
+    const Vec2 dir(std::cos(a), std::sin(a));
+    const Vec2 origin = c + ring->radius * dir;
+    double best = kNoHit;
+    for (uint32_t o : near)
+      best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
+    const Vec2 end = origin + std::min(best, ring->range) * dir;
+    rays.push_back({origin.x(), origin.y(), z, end.x(), end.y(), best <= ring->range ? 1 : 0});
+  }
+  return rays;
+}
+
 // Everything the page shows of entity `slot`: where it is and, for a robot,
 // its sensors' readings, its actuators' last commands and its controller's
 // values (Controller::RecordValues).
-std::string InspectJson(const Simulation& sim, uint32_t slot) {
+std::string InspectJson(const Simulation& sim, uint32_t slot, const RobotLog& log) {
   const Space& space = sim.space();
   const Pose& pose = space.pose(slot);
   json out = Describe(space, slot);
@@ -539,6 +682,7 @@ std::string InspectJson(const Simulation& sim, uint32_t slot) {
   for (size_t i = 0; devices.sensor_labels && i < devices.sensor_labels->size(); ++i) {
     json sensor = DescribeSensor(devices.sensors[i]);
     sensor["label"] = (*devices.sensor_labels)[i];
+    if (sensor["kind"] == "proximity") sensor["rays"] = ProximityRays(sim, slot);
     sensors.push_back(std::move(sensor));
   }
   for (size_t i = 0; devices.actuator_labels && i < devices.actuator_labels->size(); ++i) {
@@ -551,6 +695,7 @@ std::string InspectJson(const Simulation& sim, uint32_t slot) {
   out["sensors"] = std::move(sensors);
   out["actuators"] = std::move(actuators);
   out["values"] = std::move(values.values());
+  out["log"] = log.LinesOf(space.id(slot));
   return out.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
@@ -720,7 +865,7 @@ class Server {
           ListMovers(sim_.space(), movers_);
           SendTo(c.connection, SceneJson(sim_, movers_, source_.replay()), false);
           SendTo(c.connection, StatusJson(), false);
-          SendTo(c.connection, EncodeFrame(sim_, source_.tick(), movers_), true);
+          SendTo(c.connection, Frame(), true);
           break;
         case Command::kClose:
           LogInfo("viewer: connection " + std::to_string(c.connection) + " closed");
@@ -780,7 +925,8 @@ class Server {
   void Inspect(const Command& c) {
     if (const std::string refused = source_.Refuses("inspect"); !refused.empty())
       return SendError(c.connection, refused);
-    if (const auto slot = Slot(c, "inspect")) SendTo(c.connection, InspectJson(sim_, *slot), false);
+    if (const auto slot = Slot(c, "inspect"))
+      SendTo(c.connection, InspectJson(sim_, *slot, robot_log_), false);
   }
 
   // Moves a robot or a movable object (Simulation::MoveEntity) while
@@ -832,6 +978,7 @@ class Server {
       return;
     }
     moved_ = false;
+    robot_log_.Clear();
     LogInfo("viewer: connection " + std::to_string(c.connection) + " reset the run (seed " +
             std::to_string(sim_.seed()) + ")");
     ListMovers(sim_.space(), movers_);
@@ -839,8 +986,7 @@ class Server {
                    false, false);
     RestartPacing();
     SendStatus();
-    hub_.Broadcast(std::make_shared<const std::string>(EncodeFrame(sim_, source_.tick(), movers_)),
-                   true, false);
+    hub_.Broadcast(std::make_shared<const std::string>(Frame()), true, false);
   }
 
   void SetPlaying(bool playing) {
@@ -878,10 +1024,16 @@ class Server {
           std::make_shared<const std::string>(SceneJson(sim_, movers_, source_.replay())), false,
           false);
     }
-    hub_.Broadcast(std::make_shared<const std::string>(EncodeFrame(sim_, source_.tick(), movers_)),
-                   true, true);
+    hub_.Broadcast(std::make_shared<const std::string>(Frame()), true, true);
     ++frames_sent_;
     frame_seconds_ += std::chrono::duration<double>(Clock::now() - start).count();
+  }
+  // The current frame, with what the loop functions draw now (a replay's
+  // loop functions never ran: it shows none).
+  std::string Frame() {
+    drawing_.Clear();
+    if (!source_.replay()) DrawLoopFunctions(sim_, drawing_);
+    return EncodeFrame(sim_, source_.tick(), movers_, drawing_);
   }
   void SendTo(WebSocketHub::ConnectionId id, std::string data, bool binary) {
     hub_.Send(id, std::make_shared<const std::string>(std::move(data)), binary);
@@ -907,6 +1059,8 @@ class Server {
   Clock::time_point next_frame_;
   Clock::duration frame_interval_{};
   std::vector<uint32_t> movers_, scratch_;
+  DrawList drawing_;  // reused from frame to frame
+  RobotLog robot_log_;
   uint64_t frames_sent_ = 0;
   double frame_seconds_ = 0;  // in SendFrame
 };

@@ -11,6 +11,8 @@
 #include <unistd.h>
 
 #include <array>
+#include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -24,6 +26,7 @@
 #include "apps/colony/sweep.h"
 #include "apps/colony/viewer/ws_client.h"
 #include "core/error.h"
+#include "core/log.h"
 #include "core/registry.h"
 #include "core/simulation.h"
 #include "sensors/proximity/proximity.h"
@@ -47,7 +50,8 @@ std::unique_ptr<Simulation> LoadDiffusion(int robots = kRobots, int length_secon
   return Simulation::Load(options);
 }
 
-// One decoded binary frame (docs/viewer.md).
+// One decoded binary frame (docs/viewer.md), with what the loop functions
+// drew when the frame carries it.
 struct Frame {
   uint32_t magic = 0, count = 0;
   uint64_t tick = 0;
@@ -56,6 +60,48 @@ struct Frame {
     uint8_t r, g, b;
   };
   std::vector<Record> records;
+  bool drawn = false;  // a drawing section follows the records
+  struct Shape {
+    std::vector<std::array<float, 3>> points;
+    float size = 0;  // a point's pixels, a circle's radius
+    std::array<uint8_t, 4> rgba{};
+    bool flag = false;  // a line closed, a circle filled
+    std::string text;
+  };
+  std::vector<Shape> points, lines, circles, texts;
+};
+
+// Reads little-endian values from a frame's bytes, failing the test when
+// they run out.
+class FrameReader {
+ public:
+  FrameReader(const std::string& data, size_t at) : data_(data), at_(at) {}
+  template <class T>
+  T Get() {
+    T value{};
+    if (at_ + sizeof value > data_.size()) {
+      ADD_FAILURE() << "the frame ends at " << data_.size() << " bytes, inside a value at " << at_;
+      at_ = data_.size();
+      return value;
+    }
+    std::memcpy(&value, data_.data() + at_, sizeof value);
+    at_ += sizeof value;
+    return value;
+  }
+  std::array<float, 3> Xyz() { return {Get<float>(), Get<float>(), Get<float>()}; }
+  std::array<uint8_t, 4> Rgba() {
+    return {Get<uint8_t>(), Get<uint8_t>(), Get<uint8_t>(), Get<uint8_t>()};
+  }
+  std::string Bytes(size_t n) {
+    std::string out = data_.substr(std::min(at_, data_.size()), n);
+    at_ += n;
+    return out;
+  }
+  size_t at() const { return at_; }
+
+ private:
+  const std::string& data_;
+  size_t at_;
 };
 
 Frame Decode(const std::string& data) {
@@ -64,7 +110,7 @@ Frame Decode(const std::string& data) {
   std::memcpy(&f.magic, data.data(), 4);
   std::memcpy(&f.count, data.data() + 4, 4);
   std::memcpy(&f.tick, data.data() + 8, 8);
-  EXPECT_EQ(data.size(), 16u + 20u * f.count);
+  EXPECT_GE(data.size(), 16u + 20u * f.count);
   for (uint32_t i = 0; i < f.count && 16 + 20 * (i + 1) <= data.size(); ++i) {
     const char* p = data.data() + 16 + 20 * i;
     Frame::Record r;
@@ -74,6 +120,43 @@ Frame Decode(const std::string& data) {
     r.b = static_cast<uint8_t>(p[18]);
     f.records.push_back(r);
   }
+  if (data.size() <= 16u + 20u * f.count) return f;
+  FrameReader in(data, 16u + 20u * f.count);
+  EXPECT_EQ(in.Get<uint32_t>(), 0x31444C43u) << "the drawing section's magic (CLD1)";
+  f.drawn = true;
+  const uint32_t points = in.Get<uint32_t>(), lines = in.Get<uint32_t>(),
+                 circles = in.Get<uint32_t>(), texts = in.Get<uint32_t>();
+  for (uint32_t k = 0; k < points; ++k) {
+    Frame::Shape s;
+    s.points = {in.Xyz()};
+    s.size = in.Get<float>();
+    s.rgba = in.Rgba();
+    f.points.push_back(s);
+  }
+  for (uint32_t k = 0; k < lines; ++k) {
+    Frame::Shape s;
+    const uint32_t n = in.Get<uint32_t>();
+    s.rgba = in.Rgba();
+    s.flag = in.Get<uint8_t>() != 0;
+    for (uint32_t j = 0; j < n && in.at() < data.size(); ++j) s.points.push_back(in.Xyz());
+    f.lines.push_back(s);
+  }
+  for (uint32_t k = 0; k < circles; ++k) {
+    Frame::Shape s;
+    s.points = {in.Xyz()};
+    s.size = in.Get<float>();
+    s.rgba = in.Rgba();
+    s.flag = in.Get<uint8_t>() != 0;
+    f.circles.push_back(s);
+  }
+  for (uint32_t k = 0; k < texts; ++k) {
+    Frame::Shape s;
+    s.points = {in.Xyz()};
+    s.rgba = in.Rgba();
+    s.text = in.Bytes(in.Get<uint16_t>());
+    f.texts.push_back(s);
+  }
+  EXPECT_EQ(in.at(), data.size()) << "bytes after the drawing section";
   return f;
 }
 
@@ -153,6 +236,16 @@ class ViewerProbe : public Controller {
   DifferentialSteering* steering_ = nullptr;
 };
 COLONY_REGISTER_CONTROLLER(ViewerProbe, "viewer_probe", "test only: turns and gives its steps");
+
+// Logs "step N" every step (its robot's log lines, core/log.h).
+class ViewerLogger : public Controller {
+ public:
+  void ControlStep() override { LogInfo("step " + std::to_string(++steps_)); }
+
+ private:
+  int steps_ = 0;
+};
+COLONY_REGISTER_CONTROLLER(ViewerLogger, "viewer_logger", "test only: logs its steps");
 
 // Robots a and b facing each other 0.25 m apart (their rings see each
 // other), c farther, a fixed box and a movable one, in a 4 x 4 m arena.
@@ -310,6 +403,55 @@ TEST(Viewer, BadMessagesGetAnErrorReplyAndChangeNothing) {
   EXPECT_EQ(sim->tick(), 1u);  // the bad messages stepped nothing
 }
 
+// Commands out of place (a move while playing, a step's count, a reset
+// seed as text, a move out of the arena or with no id) and garbage, sent
+// between steps, are refused one by one; the run stepped around them is
+// the plain run, hash for hash.
+TEST(Viewer, MalformedAndOutOfPlaceMessagesLeaveTheRunAsAPlainRun) {
+  auto sim = LoadDiffusion();
+  auto plain = LoadDiffusion();
+  Served served(*sim);
+  WebSocketClient client;
+  Connect(client, served.ws());
+  Next(client, "frame");
+  const char* refused[] = {R"({"cmd":"move","id":"mb3","x":0,"y":0})",  // sent while playing
+                           R"({"cmd":"step","count":2})",
+                           R"({"cmd":"reset","seed":"1"})",
+                           R"({"cmd":"reset","seed":-1})",
+                           R"({"cmd":"move","id":"mb3","x":100,"y":0})",
+                           R"({"cmd":"move","x":0,"y":0})",
+                           R"({"cmd":"inspect","id":""})",
+                           R"({"cmd":"speed","value":"fast"})",
+                           R"({"cmd":"move","id":"mb3","x":0,"y":0,"z":1})",
+                           "{\"cmd\":\"play\"",
+                           "\x01\x02\x03"};
+  client.Send(R"({"cmd":"play"})");
+  for (const char* message : refused) {
+    client.Send(message);
+    ASSERT_TRUE(Next(client, "error")) << message;
+    if (message == refused[0]) {
+      client.Send(R"({"cmd":"pause"})");
+      json status;
+      do {
+        status = json::parse(Next(client, "status")->payload);
+      } while (status["playing"] == true);
+    }
+    client.Send(R"({"cmd":"step"})");
+    Next(client, "frame");
+  }
+  client.Send(R"({"cmd":"pause"})");
+  json status;
+  do {
+    status = json::parse(Next(client, "status")->payload);
+  } while (status["playing"] == true);
+  EXPECT_EQ(status["moved"], false);
+  client.Close();
+  served.Stop();
+  ASSERT_GE(sim->tick(), 11u);
+  while (plain->tick() < sim->tick()) plain->Step();
+  EXPECT_EQ(sim->StateHash(), plain->StateHash());
+}
+
 TEST(Viewer, ResetGoesBackToTickZeroWithTheSameOrANewSeed) {
   auto sim = LoadDiffusion();
   Served served(*sim);
@@ -407,6 +549,51 @@ TEST(Viewer, InspectShowsTheRobotsSensorsCommandsAndValues) {
     strongest = std::max(strongest, readings[i].value);
   }
   EXPECT_GT(strongest, 0.1f);
+}
+
+// The inspect reply carries the robot's last 10 log lines (its own, not
+// another robot's), and, for a proximity ring, its rays: a's rays that face
+// b, 0.25 m ahead, end on b.
+TEST(Viewer, InspectShowsTheRobotsLastLogLinesAndItsProximityRays) {
+  const std::string controllers =
+      "<viewer_logger id=\"l\"><actuators><differential_steering/></actuators>"
+      "<sensors><proximity/></sensors></viewer_logger>";
+  auto sim = testing::LoadXml(
+      testing::Experiment("<marxbot id=\"a\"><body position=\"0,0,0\"/><controller "
+                          "config=\"l\"/></marxbot><marxbot id=\"b\"><body "
+                          "position=\"0.25,0,0\"/><controller config=\"l\"/></marxbot>",
+                          controllers),
+      {}, 1);
+  Served served(*sim);
+  WebSocketClient client;
+  Connect(client, served.ws());
+  Next(client, "frame");
+  for (int k = 0; k < 12; ++k) {
+    client.Send(R"({"cmd":"step"})");
+    Next(client, "frame");
+  }
+  client.Send(R"({"cmd":"inspect","id":"a"})");
+  const auto reply = Next(client, "inspect");
+  ASSERT_TRUE(reply);
+  const json a = json::parse(reply->payload);
+  ASSERT_EQ(a["log"].size(), 10u) << a["log"];
+  EXPECT_EQ(a["log"][0], "[tick 3] info: step 3");
+  EXPECT_EQ(a["log"][9], "[tick 12] info: step 12");
+  const json& rays = a["sensors"][0]["rays"];
+  ASSERT_EQ(rays.size(), 24u);
+  int hits = 0;
+  for (const json& r : rays) {
+    const double x0 = r[0], y0 = r[1], x1 = r[3];
+    EXPECT_NEAR(std::hypot(x0, y0), 0.085, 0.02) << r;  // from the ring
+    if (r[5] == 1) {
+      ++hits;
+      EXPECT_GT(x1, 0.12) << "a hit ray ends on b: " << r;
+      EXPECT_LT(x1, 0.25) << r;
+    }
+  }
+  EXPECT_GE(hits, 1);
+  client.Close();
+  served.Stop();
 }
 
 // Dragging while paused moves the entity through the simulation: the next
@@ -510,6 +697,61 @@ TEST(Viewer, ServedRunWithNobodyConnectedEqualsAPlainRun) {
   EXPECT_EQ(ServeRun(*served_sim, options), 0);
   EXPECT_EQ(served_sim->tick(), plain->tick());
   EXPECT_EQ(served_sim->StateHash(), plain->StateHash());
+}
+
+// The eye-bot guidance example's loop functions draw its target's regions
+// (core/drawing.h); every frame carries them, in the simulation's numbers,
+// and a served run that draws for a connected page steps as a plain run.
+TEST(Viewer, FramesCarryWhatTheLoopFunctionsDraw) {
+  ExperimentOptions options;
+  options.file = COLONY_SOURCE_DIR "/experiments/eyebot_guidance.xml";
+  options.threads = 1;
+  auto sim = Simulation::Load(options);
+  auto plain = Simulation::Load(options);
+  const Vec3 target = sim->space().pose(sim->space().Find("target").index).position;
+  Served served(*sim);
+  WebSocketClient client;
+  Connect(client, served.ws());
+  Frame first = Decode(Next(client, "frame")->payload);
+  ASSERT_TRUE(first.drawn) << "no drawing section in the first frame";
+  // The reach disc (0.6 m, green, translucent) and the mark ring (0.2 m,
+  // yellow until marked), centred on the target.
+  ASSERT_EQ(first.circles.size(), 2u);
+  EXPECT_NEAR(first.circles[0].points[0][0], target.x(), 1e-5);
+  EXPECT_NEAR(first.circles[0].points[0][1], target.y(), 1e-5);
+  EXPECT_FLOAT_EQ(first.circles[0].size, 0.6f);
+  EXPECT_TRUE(first.circles[0].flag);
+  EXPECT_EQ(first.circles[0].rgba, (std::array<uint8_t, 4>{40, 200, 60, 90}));
+  EXPECT_FLOAT_EQ(first.circles[1].size, 0.2f);
+  EXPECT_FALSE(first.circles[1].flag);
+  EXPECT_EQ(first.circles[1].rgba, (std::array<uint8_t, 4>{255, 220, 0, 255}));
+  // No foot-bot starts within reach: no lines; the count above the target.
+  EXPECT_TRUE(first.lines.empty());
+  ASSERT_EQ(first.texts.size(), 1u);
+  EXPECT_EQ(first.texts[0].text, "reached 0/5");
+  EXPECT_NEAR(first.texts[0].points[0][2], target.z() + 0.3, 1e-5);
+  for (int k = 0; k < 5; ++k) {
+    client.Send(R"({"cmd":"step"})");
+    EXPECT_TRUE(Decode(Next(client, "frame")->payload).drawn);
+    Next(client, "status");
+  }
+  client.Close();
+  served.Stop();
+  for (int k = 0; k < 5; ++k) plain->Step();
+  ASSERT_EQ(sim->tick(), 5u);
+  EXPECT_EQ(sim->StateHash(), plain->StateHash()) << "drawing for the page changed the run";
+}
+
+// A run whose loop functions draw nothing sends frames without a drawing
+// section: the records and nothing after them.
+TEST(Viewer, FramesOfARunThatDrawsNothingEndAfterTheRecords) {
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  WebSocketClient client;
+  Connect(client, served.ws());
+  const std::string payload = Next(client, "frame")->payload;
+  EXPECT_EQ(payload.size(), 16u + 20u * kRobots);
+  EXPECT_FALSE(Decode(payload).drawn);
 }
 
 // GET `path` from 127.0.0.1:`port` (with more header lines `headers`, each
@@ -746,6 +988,257 @@ TEST(Viewer, ChromiumShowsTheSelectedRobotsReadings) {
                                  url + "' 2>> " + dir + "/chromium_inspect.log";
   ASSERT_EQ(std::system(screenshot.c_str()), 0) << screenshot;
   EXPECT_TRUE(std::filesystem::exists(shot));
+}
+
+// Standard base64 (what DevTools sends screenshots in) to bytes.
+std::string DecodeBase64(const std::string& text) {
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  uint32_t bits = 0;
+  int count = 0;
+  for (char c : text) {
+    const size_t value = alphabet.find(c);
+    if (value == std::string::npos) continue;  // '=' padding
+    bits = (bits << 6) | static_cast<uint32_t>(value);
+    count += 6;
+    if (count >= 8) {
+      count -= 8;
+      out.push_back(static_cast<char>((bits >> count) & 0xFF));
+    }
+  }
+  return out;
+}
+
+// Headless Chromium driven through its DevTools protocol (over our own
+// WebSocket client): opens a page, evaluates expressions in it and sends it
+// real mouse events. Ends the browser it started when it goes.
+class DevToolsBrowser {
+ public:
+  // Starts `chromium` with a DevTools endpoint and a profile in `profile`;
+  // why not ("" when started).
+  std::string Start(const std::string& chromium, const std::string& profile) {
+    std::filesystem::remove_all(profile);
+    std::filesystem::create_directories(profile);
+    const std::vector<std::string> args = {chromium,
+                                           "--headless=new",
+                                           "--no-sandbox",
+                                           "--disable-gpu",
+                                           "--use-angle=swiftshader",
+                                           "--enable-unsafe-swiftshader",
+                                           "--hide-scrollbars",
+                                           "--window-size=1024,768",
+                                           "--remote-debugging-port=0",
+                                           "--remote-allow-origins=*",
+                                           "--user-data-dir=" + profile,
+                                           "about:blank"};
+    pid_ = fork();
+    if (pid_ == 0) {
+      std::vector<char*> argv;
+      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      const std::string log = profile + "/../chromium_drag.log";
+      (void)!freopen(log.c_str(), "a", stderr);
+      (void)!freopen("/dev/null", "w", stdout);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+    // Chromium writes its port and the browser's path once it listens.
+    const std::string active = profile + "/DevToolsActivePort";
+    for (int k = 0; k < 300; ++k) {
+      std::ifstream in(active);
+      std::string port, path;
+      if (std::getline(in, port) && std::getline(in, path) && !path.empty()) {
+        std::string error;
+        if (!client_.Connect("ws://127.0.0.1:" + port + path, 10s, error)) return error;
+        return "";
+      }
+      std::this_thread::sleep_for(100ms);
+    }
+    return "no " + active + " after 30 s";
+  }
+  ~DevToolsBrowser() {
+    client_.Close();
+    if (pid_ > 0) {
+      kill(pid_, SIGTERM);
+      waitpid(pid_, nullptr, 0);
+    }
+  }
+
+  // Calls `method`, in the page's session when there is one; its result.
+  json Call(const std::string& method, json params = json::object()) {
+    json message = {{"id", ++id_}, {"method", method}, {"params", std::move(params)}};
+    if (!session_.empty()) message["sessionId"] = session_;
+    client_.Send(message.dump());
+    const auto deadline = std::chrono::steady_clock::now() + 30s;
+    while (std::chrono::steady_clock::now() < deadline) {
+      const auto m = client_.Receive(200ms);
+      if (!m) continue;
+      const json reply = json::parse(m->payload, nullptr, false);
+      if (!reply.is_object() || reply.value("id", -1) != id_) continue;  // events
+      EXPECT_FALSE(reply.contains("error")) << method << ": " << reply.dump();
+      return reply.value("result", json::object());
+    }
+    ADD_FAILURE() << "no reply to " << method;
+    return json::object();
+  }
+  // Opens `url` in a new tab and talks to it from now on.
+  void Open(const std::string& url) {
+    const json target = Call("Target.createTarget", {{"url", url}});
+    session_ = Call("Target.attachToTarget",
+                    {{"targetId", target.value("targetId", "")}, {"flatten", true}})
+                   .value("sessionId", "");
+  }
+  // The value of a JavaScript expression in the page (JSON-able).
+  json Evaluate(const std::string& expression) {
+    return Call("Runtime.evaluate", {{"expression", expression}, {"returnByValue", true}})
+        .value("result", json::object())
+        .value("value", json());
+  }
+  // A mouse event at (x, y) CSS pixels, the left button, with shift held.
+  void ShiftMouse(const std::string& type, double x, double y) {
+    Call("Input.dispatchMouseEvent", {{"type", type},
+                                      {"x", x},
+                                      {"y", y},
+                                      {"button", "left"},
+                                      {"buttons", type == "mouseReleased" ? 0 : 1},
+                                      {"clickCount", 1},
+                                      {"modifiers", 8}});
+  }
+
+ private:
+  pid_t pid_ = -1;
+  WebSocketClient client_;
+  int id_ = 0;
+  std::string session_;
+};
+
+// Shift + drag on the page, with the mouse of a real browser, moves robot c
+// in the simulation: the server then has it where it was dropped.
+TEST(Viewer, ChromiumShiftDragMovesTheRobotInTheSimulation) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!std::filesystem::exists(chromium))
+    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
+  auto sim = LoadProbes();
+  Served served(*sim);
+  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
+  std::filesystem::create_directories(dir);
+  DevToolsBrowser browser;
+  const std::string started = browser.Start(chromium, dir + "/profile_drag");
+  ASSERT_EQ(started, "");
+  browser.Open(served.url());
+  json drawn;
+  for (int k = 0; k < 300 && drawn != "3"; ++k) {
+    std::this_thread::sleep_for(100ms);
+    drawn = browser.Evaluate("document.body.dataset.robotsDrawn || ''");
+  }
+  ASSERT_EQ(drawn, "3") << "the page did not draw the 3 robots";
+  const json from = browser.Evaluate("window.colonyViewer.screenOf('c')");
+  const json to = browser.Evaluate("window.colonyViewer.screenOfPoint(-1.5, 0.3, 0)");
+  ASSERT_TRUE(from.is_array() && to.is_array()) << from << " " << to;
+  browser.ShiftMouse("mousePressed", from[0], from[1]);
+  for (int k = 1; k <= 5; ++k) {
+    const double f = k / 5.0;
+    browser.ShiftMouse("mouseMoved",
+                       from[0].get<double>() + f * (to[0].get<double>() - from[0].get<double>()),
+                       from[1].get<double>() + f * (to[1].get<double>() - from[1].get<double>()));
+  }
+  browser.ShiftMouse("mouseReleased", to[0], to[1]);
+  // The server's own answer: c where it was dropped, the run marked moved.
+  WebSocketClient client;
+  Connect(client, served.ws());
+  json c;
+  for (int k = 0; k < 50; ++k) {
+    client.Send(R"({"cmd":"inspect","id":"c"})");
+    c = json::parse(Next(client, "inspect")->payload);
+    if (std::abs(c["position"][0].get<double>() - -1.5) < 0.05) break;
+    std::this_thread::sleep_for(100ms);
+  }
+  EXPECT_NEAR(c["position"][0].get<double>(), -1.5, 0.03) << c["position"];
+  EXPECT_NEAR(c["position"][1].get<double>(), 0.3, 0.03) << c["position"];
+  client.Send(R"({"cmd":"pause"})");
+  EXPECT_EQ(json::parse(Next(client, "status")->payload)["moved"], true);
+  client.Close();
+  served.Stop();
+  EXPECT_NEAR(testing::PositionOf(*sim, "c").x(), -1.5, 0.03);
+  EXPECT_NEAR(testing::PositionOf(*sim, "c").y(), 0.3, 0.03);
+  EXPECT_EQ(sim->tick(), 0u);
+}
+
+// What the loop functions draw shows on the page (the eye-bot guidance
+// example's target regions and its text, as HTML labels), and so do the
+// overlays asked for in the address (robot ids, the selected robot's
+// proximity rays). The screenshot is
+// docs/viewer_drawing.png.
+TEST(Viewer, ChromiumShowsWhatTheLoopFunctionsDrawAndTheIdOverlay) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!std::filesystem::exists(chromium))
+    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
+  ExperimentOptions options;
+  options.file = COLONY_SOURCE_DIR "/experiments/eyebot_guidance.xml";
+  options.threads = 1;
+  auto sim = Simulation::Load(options);
+  while (sim->tick() < 600) sim->Step();  // foot-bots gather at the marked target
+  Served served(*sim);
+  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
+  std::filesystem::create_directories(dir);
+  DevToolsBrowser browser;
+  ASSERT_EQ(browser.Start(chromium, dir + "/profile_drawing"), "");
+  browser.Open(served.url() + "?overlays=ids,rays&select=fb2");
+  // Drawn, with fb2's inspection in: its 24 rays.
+  json ready;
+  for (int k = 0; k < 300 && ready != true; ++k) {
+    std::this_thread::sleep_for(100ms);
+    ready = browser.Evaluate("document.body.dataset.overlayLines === '24'");
+  }
+  const json html = browser.Evaluate("document.documentElement.outerHTML");
+  const std::string text = html.is_string() ? html.get<std::string>() : "";
+  const std::string dom = dir + "/dom_drawing.html";
+  std::ofstream(dom) << text;
+  std::smatch match;
+  ASSERT_TRUE(
+      std::regex_search(text, match, std::regex("data-drawn=\"(\\d+) (\\d+) (\\d+) (\\d+)\"")))
+      << "DOM in " << dom;
+  EXPECT_EQ(match[3], "2") << "the reach and mark circles";
+  EXPECT_EQ(match[4], "1") << "the text";
+  EXPECT_GE(std::stoi(match[2]), 1) << "lines to the foot-bots within reach";
+  EXPECT_TRUE(std::regex_search(text, std::regex("class=\"drawn-text\"[^>]*>reached \\d/5<")))
+      << "DOM in " << dom;
+  // fb2 selected: its 24 proximity rays.
+  EXPECT_NE(text.find("data-overlay-lines=\"24\""), std::string::npos) << "DOM in " << dom;
+  for (const char* id : {">fb0<", ">fb9<", ">eye0<"}) {
+    EXPECT_NE(text.find(id), std::string::npos) << id << " not labelled; DOM in " << dom;
+  }
+  const std::string shot = dir + "/viewer_drawing.png";
+  const std::string png =
+      DecodeBase64(browser.Call("Page.captureScreenshot", {{"format", "png"}}).value("data", ""));
+  ASSERT_GT(png.size(), 1000u);
+  std::ofstream(shot, std::ios::binary) << png;
+}
+
+// The trails overlay, on while the run plays, keeps each robot's positions
+// from the frames: a segment per robot per frame after the first.
+TEST(Viewer, ChromiumTrailsGrowAsTheRunPlays) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!std::filesystem::exists(chromium))
+    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
+  auto sim = LoadDiffusion();
+  ServeOptions options;
+  options.start_playing = true;
+  Served served(*sim, options);
+  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
+  std::filesystem::create_directories(dir);
+  DevToolsBrowser browser;
+  ASSERT_EQ(browser.Start(chromium, dir + "/profile_trails"), "");
+  browser.Open(served.url() + "?overlays=trails");
+  json lines;
+  for (int k = 0; k < 300; ++k) {
+    std::this_thread::sleep_for(100ms);
+    lines = browser.Evaluate("Number(document.body.dataset.overlayLines || 0)");
+    if (lines.is_number() && lines.get<int>() >= 5 * kRobots) break;
+  }
+  ASSERT_TRUE(lines.is_number());
+  EXPECT_GE(lines.get<int>(), 5 * kRobots) << "not 6 frames' trails after 30 s";
+  EXPECT_EQ(lines.get<int>() % kRobots, 0) << "every robot's trail grows by one a frame";
 }
 
 // The served program's first line that holds its URL (log lines may come

@@ -10,9 +10,16 @@
 // attribute read through vertexColors.
 import * as THREE from '/three/build/three.module.js';
 import { OrbitControls } from '/three/examples/jsm/controls/OrbitControls.js';
+import { CSS2DRenderer, CSS2DObject } from '/three/examples/jsm/renderers/CSS2DRenderer.js';
 
 const FRAME_MAGIC = 0x31464C43;  // "CLF1"
+const DRAWING_MAGIC = 0x31444C43;  // "CLD1": what the loop functions drew follows the records
 const HEADER_BYTES = 16, RECORD_BYTES = 20;
+// Robot ids are written over every robot up to this many robots; above it,
+// over the selected one only (10,000 labels would cost more than the scene).
+const MAX_ID_LABELS = 300;
+// Positions a trail keeps (one per frame received).
+const TRAIL_LENGTH = 60;
 
 const view = document.getElementById('view');
 const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
@@ -20,6 +27,14 @@ renderer.setPixelRatio(window.devicePixelRatio);
 renderer.setSize(window.innerWidth, window.innerHeight);
 renderer.setClearColor(0x20242a);
 view.appendChild(renderer.domElement);
+// Text (robot ids, loop functions' text) as HTML labels over the canvas.
+const labels = new CSS2DRenderer();
+labels.setSize(window.innerWidth, window.innerHeight);
+labels.domElement.style.position = 'absolute';
+labels.domElement.style.top = '0';
+labels.domElement.style.pointerEvents = 'none';
+labels.domElement.style.zIndex = '0';  // its labels' own z-indexes stay under the panels
+view.appendChild(labels.domElement);
 
 const camera = new THREE.PerspectiveCamera(45, window.innerWidth / window.innerHeight, 0.01, 1000);
 camera.up.set(0, 0, 1);  // the simulation's z is up
@@ -46,6 +61,23 @@ const highlight = new THREE.Mesh(new THREE.RingBufferGeometry(1.25, 1.45, 32),
                                  new THREE.MeshBasicMaterial({ color: 0xffdd00, side: THREE.DoubleSide }));
 highlight.visible = false;
 world.add(highlight);
+
+// Overlays, switched on the page (or with ?overlays=ids,trails,rays,links in
+// the address): robot ids, trails, the selected robot's proximity rays and
+// range-and-bearing links. Drawn from what the page already has (frames,
+// the selected robot's inspection), so they cost the simulator nothing.
+const overlays = { ids: false, trails: false, rays: false, links: false };
+for (const name of (new URLSearchParams(location.search).get('overlays') || '').split(',')) {
+  if (name in overlays) overlays[name] = true;
+}
+const overlayGroup = new THREE.Group();  // rebuilt when a frame or an inspection arrives
+world.add(overlayGroup);
+const drawnGroup = new THREE.Group();  // what the loop functions drew, from the last frame
+world.add(drawnGroup);
+let trails = [];  // per mover: a Float32Array ring of x, y, z and how many it holds
+let trailHead = 0, trailCount = 0;
+let drawnCount = { points: 0, lines: 0, circles: 0, texts: 0 };
+let overlayLines = 0;  // segments the overlays hold (trails, rays, links)
 
 // --- Parts of robots, in robot units -------------------------------------
 
@@ -254,7 +286,7 @@ function applyFrame(buffer) {
     return showMessage('a frame that is not one (bad magic) was ignored');
   }
   const count = data.getUint32(4, true);
-  if (!scene || count !== movers.length || buffer.byteLength !== HEADER_BYTES + RECORD_BYTES * count) {
+  if (!scene || count !== movers.length || buffer.byteLength < HEADER_BYTES + RECORD_BYTES * count) {
     return showMessage(`a frame of ${count} movers does not match the scene's ${movers.length}; ignored`);
   }
   tick = Number(data.getBigUint64(8, true));
@@ -280,10 +312,167 @@ function applyFrame(buffer) {
       if (part.led) part.led.needsUpdate = true;
     }
   }
+  recordTrails();
+  applyDrawing(data, HEADER_BYTES + RECORD_BYTES * count);
+  rebuildOverlays();
   needsRender = true;
   framesApplied = true;
 }
 let framesApplied = false;
+
+// --- What the loop functions drew ----------------------------------------
+
+function disposeGroup(group) {
+  for (const child of [...group.children]) {
+    group.remove(child);
+    if (child.geometry) child.geometry.dispose();
+    if (child.material) child.material.dispose();
+  }
+}
+function rgbOf(data, at) {
+  return new THREE.Color(data.getUint8(at) / 255, data.getUint8(at + 1) / 255, data.getUint8(at + 2) / 255);
+}
+function textLabel(text, rgb, className) {
+  const div = document.createElement('div');
+  div.className = className;
+  div.textContent = text;
+  div.style.color = `rgb(${rgb.r * 255}, ${rgb.g * 255}, ${rgb.b * 255})`;
+  return new CSS2DObject(div);
+}
+function xyzAt(data, at) {
+  return [data.getFloat32(at, true), data.getFloat32(at + 4, true), data.getFloat32(at + 8, true)];
+}
+
+// The drawing section (docs/viewer.md): points, polylines, circles in the
+// horizontal plane, text; none when the frame ends after its records.
+function applyDrawing(data, at) {
+  disposeGroup(drawnGroup);
+  drawnCount = { points: 0, lines: 0, circles: 0, texts: 0 };
+  if (data.byteLength <= at) return;
+  if (data.byteLength < at + 20 || data.getUint32(at, true) !== DRAWING_MAGIC) {
+    return showMessage('a frame with a bad drawing section: its shapes are not shown');
+  }
+  const [points, lines, circles, texts] = [4, 8, 12, 16].map((k) => data.getUint32(at + k, true));
+  at += 20;
+  const segments = [], segmentColors = [];
+  const addSegment = (a, b, c) => { segments.push(...a, ...b); segmentColors.push(c.r, c.g, c.b, c.r, c.g, c.b); };
+  try {
+    for (let k = 0; k < points; ++k, at += 20) {
+      const g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.Float32BufferAttribute(xyzAt(data, at), 3));
+      const m = new THREE.PointsMaterial({ color: rgbOf(data, at + 16), size: data.getFloat32(at + 12, true),
+                                           sizeAttenuation: false, depthTest: false });
+      drawnGroup.add(new THREE.Points(g, m));
+    }
+    for (let k = 0; k < lines; ++k) {
+      const n = data.getUint32(at, true), c = rgbOf(data, at + 4), closed = data.getUint8(at + 8) !== 0;
+      at += 9;
+      const ps = [];
+      for (let j = 0; j < n; ++j, at += 12) ps.push(xyzAt(data, at));
+      for (let j = 1; j < n; ++j) addSegment(ps[j - 1], ps[j], c);
+      if (closed && n > 2) addSegment(ps[n - 1], ps[0], c);
+    }
+    for (let k = 0; k < circles; ++k, at += 21) {
+      const [x, y, z] = xyzAt(data, at), r = data.getFloat32(at + 12, true);
+      const c = rgbOf(data, at + 16), alpha = data.getUint8(at + 19) / 255, filled = data.getUint8(at + 20) !== 0;
+      if (filled) {
+        const disc = new THREE.Mesh(new THREE.CircleBufferGeometry(r, 64),
+                                    new THREE.MeshBasicMaterial({ color: c, transparent: alpha < 1, opacity: alpha,
+                                                                  side: THREE.DoubleSide, depthWrite: false }));
+        disc.position.set(x, y, z + 0.001);
+        drawnGroup.add(disc);
+      } else {
+        for (let j = 0; j < 64; ++j) {
+          const a0 = j / 64 * 2 * Math.PI, a1 = (j + 1) / 64 * 2 * Math.PI;
+          addSegment([x + r * Math.cos(a0), y + r * Math.sin(a0), z + 0.001],
+                     [x + r * Math.cos(a1), y + r * Math.sin(a1), z + 0.001], c);
+        }
+      }
+    }
+    for (let k = 0; k < texts; ++k) {
+      const p = xyzAt(data, at), c = rgbOf(data, at + 12), n = data.getUint16(at + 16, true);
+      const text = new TextDecoder().decode(new Uint8Array(data.buffer, data.byteOffset + at + 18, n));
+      at += 18 + n;
+      const label = textLabel(text, c, 'drawn-text');
+      label.position.set(...p);
+      drawnGroup.add(label);
+    }
+  } catch (e) {
+    disposeGroup(drawnGroup);
+    return showMessage('a frame with a drawing section cut short: its shapes are not shown');
+  }
+  if (segments.length) {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.Float32BufferAttribute(segments, 3));
+    g.setAttribute('color', new THREE.Float32BufferAttribute(segmentColors, 3));
+    drawnGroup.add(new THREE.LineSegments(g, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors })));
+  }
+  drawnCount = { points, lines, circles, texts };
+}
+
+// --- Overlays -------------------------------------------------------------
+
+// Each mover's last TRAIL_LENGTH positions, from the frames (only while trails are on).
+function recordTrails() {
+  if (!overlays.trails) { trails = []; trailCount = 0; return; }
+  if (trails.length !== movers.length) {
+    trails = movers.map(() => new Float32Array(3 * TRAIL_LENGTH));
+    trailHead = 0; trailCount = 0;
+  }
+  movers.forEach((m, i) => { trails[i].set([m.pose[0], m.pose[1], m.pose[2] + 0.002], 3 * trailHead); });
+  trailHead = (trailHead + 1) % TRAIL_LENGTH;
+  trailCount = Math.min(trailCount + 1, TRAIL_LENGTH);
+}
+
+function rebuildOverlays() {
+  disposeGroup(overlayGroup);
+  const lines = [], colors = [];
+  const add = (a, b, c) => { lines.push(...a, ...b); colors.push(...c, ...c); };
+  if (overlays.trails && trailCount > 1) {
+    for (const ring of trails) {
+      for (let k = 1; k < trailCount; ++k) {
+        const i0 = (trailHead - trailCount + k - 1 + TRAIL_LENGTH) % TRAIL_LENGTH, i1 = (i0 + 1) % TRAIL_LENGTH;
+        const fade = 0.25 + 0.75 * k / trailCount;
+        add(ring.subarray(3 * i0, 3 * i0 + 3), ring.subarray(3 * i1, 3 * i1 + 3), [0.12 * fade, 0.43 * fade, 0.9 * fade]);
+      }
+    }
+  }
+  const info = selected >= 0 && inspected && inspected.id === movers[selected].desc.id ? inspected : null;
+  if (info && info.sensors) {
+    const [x, y, z, yaw] = movers[selected].pose;
+    for (const d of info.sensors) {
+      if (overlays.rays && d.kind === 'proximity' && d.rays) {
+        for (const r of d.rays) add([r[0], r[1], r[2]], [r[3], r[4], r[2]], r[5] ? [1, 0.16, 0.63] : [0.16, 0.78, 0.94]);
+      }
+      if (overlays.links && d.kind === 'range_and_bearing') {
+        for (const p of d.packets) {
+          const a = yaw + p.bearing, flat = p.range * Math.cos(p.elevation || 0);
+          add([x, y, z + 0.1], [x + flat * Math.cos(a), y + flat * Math.sin(a), z + 0.1 + p.range * Math.sin(p.elevation || 0)], [1, 0.8, 0.1]);
+        }
+      }
+    }
+  }
+  if (lines.length) {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.Float32BufferAttribute(lines, 3));
+    g.setAttribute('color', new THREE.Float32BufferAttribute(colors, 3));
+    overlayGroup.add(new THREE.LineSegments(g, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors })));
+  }
+  if (overlays.ids) {
+    const shown = movers.length <= MAX_ID_LABELS ? movers.map((m, i) => i) : selected >= 0 ? [selected] : [];
+    for (const i of shown) {
+      const m = movers[i];
+      if (!m.desc.robot) continue;
+      const label = textLabel(m.desc.id, new THREE.Color(1, 1, 1), 'robot-id');
+      label.position.set(m.pose[0], m.pose[1], m.pose[2] + m.scale[2] + 0.02);
+      overlayGroup.add(label);
+    }
+  }
+  document.body.dataset.overlays = Object.keys(overlays).filter((k) => overlays[k]).join(',');
+  overlayLines = lines.length / 6;
+  needsRender = true;
+}
+
 
 // --- Views and picking ----------------------------------------------------
 
@@ -394,6 +583,10 @@ function showInspect() {
       lines.push('values');
       for (const [k, v] of values) lines.push(`  ${k} ${fixed(v)}`);
     }
+    if (info.log && info.log.length) {
+      lines.push('log (last lines)');
+      for (const l of info.log) lines.push('  ' + l);
+    }
   }
   if (!playing && !done) lines.push('', 'shift + drag: move it');
   panel.textContent = lines.join('\n');
@@ -455,6 +648,7 @@ function connect() {
       needsRender = true;
     } else if (message.type === 'inspect') {
       inspected = message;
+      rebuildOverlays();
       needsRender = true;
     } else if (message.type === 'error') showMessage('the simulator says: ' + message.message);
   };
@@ -475,6 +669,11 @@ document.getElementById('reset').onclick = () => {
   const seed = document.getElementById('seed').value;
   send(seed === '' ? { cmd: 'reset' } : { cmd: 'reset', seed: Number(seed) });
 };
+for (const name of Object.keys(overlays)) {
+  const box = document.getElementById('overlay-' + name);
+  box.checked = overlays[name];
+  box.onchange = () => { overlays[name] = box.checked; rebuildOverlays(); };
+}
 document.getElementById('top').onclick = topView;
 document.getElementById('persp').onclick = perspectiveView;
 document.getElementById('quit').onclick = () => {
@@ -486,7 +685,7 @@ window.addEventListener('keydown', (e) => {
   else if (e.key === 's') send({ cmd: 'step' });
   else if (e.key === 't') topView();
   else if (e.key === 'p') perspectiveView();
-  else if (e.key === 'Escape') { selected = -1; inspected = null; needsRender = true; }
+  else if (e.key === 'Escape') { selected = -1; inspected = null; rebuildOverlays(); }
 });
 // Click: select (and inspect) the robot under the pointer. Shift + drag
 // while paused: move a robot or movable object (the simulator checks the
@@ -534,12 +733,13 @@ renderer.domElement.addEventListener('pointerup', (e) => {
   selected = pick(e.clientX, e.clientY);
   inspected = null;
   askInspect();
-  needsRender = true;
+  rebuildOverlays();
 });
 window.addEventListener('resize', () => {
   camera.aspect = window.innerWidth / window.innerHeight;
   camera.updateProjectionMatrix();
   renderer.setSize(window.innerWidth, window.innerHeight);
+  labels.setSize(window.innerWidth, window.innerHeight);
   needsRender = true;
 });
 
@@ -550,11 +750,30 @@ function animate() {
   needsRender = false;
   showInspect();
   renderer.render(world, camera);
+  labels.render(world, camera);
   if (framesApplied) {
+    document.body.dataset.drawn = `${drawnCount.points} ${drawnCount.lines} ${drawnCount.circles} ${drawnCount.texts}`;
+    document.body.dataset.overlayLines = overlayLines;  // once drawn, with their labels
     document.body.dataset.robotsDrawn = movers.filter((m) => m.desc.robot).length;
     document.body.dataset.moversDrawn = movers.length;
   }
 }
+
+// For tests that drive the page through Chromium's DevTools protocol: where
+// a mover, or a point of the world, is on the page (CSS pixels from its
+// top-left corner), as pick() and floorPoint() see it.
+function screenOfPoint(x, y, z) {
+  const rect = renderer.domElement.getBoundingClientRect();
+  const p = new THREE.Vector3(x, y, z).project(camera);
+  return [(p.x + 1) / 2 * rect.width + rect.left, (1 - p.y) / 2 * rect.height + rect.top];
+}
+window.colonyViewer = {
+  screenOfPoint,
+  screenOf(id) {
+    const m = movers.find((mover) => mover.desc.id === id);
+    return m ? screenOfPoint(m.pose[0], m.pose[1], m.pose[2] + m.scale[2] / 2) : null;
+  },
+};
 
 window.addEventListener('error', (e) => showMessage('viewer error: ' + e.message));
 connect();
