@@ -464,11 +464,19 @@ void Simulation::SenseAndControl() {
 void Simulation::StepBatches() {
   for (auto& config : controller_configs_) {
     if (!config->batch) continue;
-    config->members.clear();
+    // In the order of the robots' slots in the space (sim.robots' order in
+    // Python), which is the order they were added until a removed robot's
+    // slot is reused.
+    config->by_slot.clear();
     for (Robot& r : robots_) {
-      if (r.alive && r.config == config.get()) config->members.push_back(r.controller.get());
+      if (r.alive && r.config == config.get())
+        config->by_slot.emplace_back(r.entity.index, r.controller.get());
     }
-    if (config->members.empty()) continue;
+    if (config->by_slot.empty()) continue;
+    if (!std::is_sorted(config->by_slot.begin(), config->by_slot.end()))
+      std::sort(config->by_slot.begin(), config->by_slot.end());
+    config->members.clear();
+    for (const auto& [slot, controller] : config->by_slot) config->members.push_back(controller);
     RunningScope running(
         {"controller", config->label.c_str(), config->library, nullptr, tick_ + 1});
     auto failed = [&](const std::string& message) {

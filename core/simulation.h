@@ -267,10 +267,11 @@ class Simulation {
     bool params_checked = false;
     // Controller::NewBatch of its first controller (null: none, or not
     // asked yet), stepped by SenseAndControl with `members`, its controllers
-    // alive now in robot order (kept to step without allocating).
+    // alive now in the order of their slots (kept to step without allocating).
     bool batch_asked = false;
     std::unique_ptr<ControllerBatch> batch;
     std::vector<Controller*> members;
+    std::vector<std::pair<uint32_t, Controller*>> by_slot;
   };
   struct Robot {
     EntityHandle entity;  // its id is the space's (a reference that stays valid)
