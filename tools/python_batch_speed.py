@@ -103,8 +103,8 @@ def main():
                  min(hashes["numpy"])),
              "",
              "%d robots, %d ticks, %d threads; %s (C++) and %s (numpy), %d interleaved runs of "
-             "each, measured %s with a load average of %.1f to %.1f (the machine is shared: other "
-             "builds ran meanwhile). `colony run`'s figure is its own robot-steps/s line (the steps "
+             "each, measured %s with a load average of %.1f to %.1f before the runs (on 2 cores). "
+             "`colony run`'s figure is its own robot-steps/s line (the steps "
              "alone); `sim.step()`'s is ticks x robots / the sum of the ticks' wall times; the "
              "fastest-ticks column is robots / the 10th percentile of every tick's wall time over "
              "all runs of that variant. The numpy controller's hash differs from the C++ one's: it "
