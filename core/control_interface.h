@@ -15,10 +15,67 @@
 
 namespace colony {
 
+class Sensor;
+
+// Events (docs/events.md): a controller asks a sensor to tell it when a
+// reading crosses a threshold, instead of reading it every step.
+
+// Which way a reading must cross the threshold to emit an event.
+enum class Crossing {
+  kRising,   // from below the threshold to at or above it
+  kFalling,  // from at or above it to below threshold - hysteresis
+  kBoth,
+};
+
+// What Sensor::Watch is asked to watch.
+struct ThresholdWatch {
+  int reading = -1;      // which reading (its index in the sensor's list); -1: each of them
+  double threshold = 0;  // in the readings' units
+  Crossing crossing = Crossing::kBoth;
+  // A reading that rose to the threshold counts as below again only once it
+  // fell below threshold - hysteresis (>= 0), so noise around the threshold
+  // does not emit an event every sample.
+  double hysteresis = 0;
+};
+
+// One crossing, handed to Controller::OnEvent.
+struct SensorEvent {
+  const Sensor* sensor = nullptr;  // the sensor that emitted it
+  int watch = 0;                   // what Sensor::Watch returned
+  int reading = 0;                 // which reading crossed
+  double value = 0;                // its value on the sample that crossed
+  bool rising = true;              // it rose to the threshold (false: it fell below)
+};
+
 // Base of every sensor's control interface (sensors/<name>/<name>.h).
 class Sensor {
  public:
   virtual ~Sensor() = default;
+  // Asks for an event (Controller::OnEvent) on every sample on which a
+  // reading crosses `watch`'s threshold the way it says, and only then: a
+  // reading that stays above the threshold emits nothing more. Whether a
+  // reading starts above or below is taken from its value now (0 before the
+  // first sample). Returns the watch's number (0, 1, ...), carried by its
+  // events. Throws std::invalid_argument when this sensor emits no events
+  // (so far: the proximity ring does) or `watch` is not one it can honour.
+  virtual int Watch(const ThresholdWatch& watch) {
+    (void)watch;
+    throw std::invalid_argument("this sensor emits no events (Watch); sensors that do: proximity");
+  }
+  // For the host's bus accounting (docs/events.md): whether the controller
+  // read this sensor's readings since the last call.
+  bool TakeRead() {
+    const bool read = read_;
+    read_ = false;
+    return read;
+  }
+
+ protected:
+  // Called by a readings accessor: the controller polled the sensor.
+  void MarkRead() const { read_ = true; }
+
+ private:
+  mutable bool read_ = false;
 };
 
 // Base of every actuator's control interface (actuators/<name>/<name>.h).
@@ -161,8 +218,15 @@ class Controller {
   virtual ~Controller() = default;
   // Called once with the <params> of the controller's configuration.
   virtual void Init(const Params& params) { (void)params; }
-  // Called once per tick, after the sensors were read.
+  // Called once per tick, after the sensors were read; with a rate
+  // (<controllers><x rate="25">) only on the ticks of that rate (core/schedule.h).
   virtual void ControlStep() = 0;
+  // Called for each event a sensor emitted (Sensor::Watch), on the tick the
+  // sensor sampled the crossing, whether or not the controller steps on that
+  // tick, and before that tick's ControlStep: in the order of the sensors
+  // in <sensors>, then of the readings. Wheel commands set here are applied
+  // in the next tick's act phase, as ControlStep's are.
+  virtual void OnEvent(const SensorEvent& event) { (void)event; }
   // Called by Simulation::Reset (docs/embedding.md) on the new controller it
   // built, bound and Init'ed for the robot, before the loop functions'
   // Reset; never during a plain run. As in ARGoS, it must leave the

@@ -74,6 +74,21 @@ class SensorSystem : public SimulationBound {
   virtual void Update(size_t begin, size_t end) = 0;
   // Adds what controllers read to the state hash.
   virtual void Hash(StateHasher& h) const { (void)h; }
+  // Events (Sensor::Watch): whether a controller asked an instance for
+  // events (the host takes them only then), and moving the events
+  // `instance` emitted since the last call to the end of `out`.
+  virtual bool HasWatches() const { return false; }
+  virtual void TakeEvents(Sensor* instance, std::vector<SensorEvent>& out) {
+    (void)instance;
+    (void)out;
+  }
+  // Bus accounting (<sensor bus="true">, docs/events.md): the number of
+  // values one poll of `instance` carries on the robot's bus (C in the
+  // seed's formula), or 0 when this sensor has no bus model.
+  virtual size_t BusValues(const Sensor* instance) const {
+    (void)instance;
+    return 0;
+  }
   // The components (core/component.h) of the robot this device reads or
   // writes, e.g. {"gripper"}. The host checks, before Attach and whenever the
   // robot migrates into another engine's region, that the robot carries

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <mutex>
 
+#include "core/bus.h"
 #include "core/crash_report.h"
 #include "core/image_renderer.h"
 #include "core/text.h"
@@ -150,6 +151,25 @@ void Simulation::AttachController(Robot& robot, int line) {
   table.actuators = robot.actuators;
   table.run_folder = &run_folder_;
   robot.controller->Bind(table, RandomStream::For(seed_, id, "controller"));
+  if (config.step_period > 0) {
+    // A random phase comes from a stream of its own, so the controller's
+    // stream is the same with and without it.
+    const double phase =
+        config.random_phase
+            ? RandomStream::For(seed_, id, "controller_phase").Uniform() * config.step_period
+            : config.step_phase;
+    robot.step = Schedule(config.step_period, phase);
+  }
+  for (size_t i = 0; i < ns && config.any_bus; ++i) {
+    if (config.sensor_bus[i] && config.sensors[i]->BusValues(robot.sensors[i]) == 0) {
+      config.sensor_nodes[i].Error(
+          "bus", "true",
+          "sensor '" + config.sensor_labels[i] +
+              "' has no bus model (how many values a poll carries); sensors that have one: "
+              "proximity");
+      context_->diagnostics.ThrowIfAny();
+    }
+  }
   const ConfigNode params = config.node.Child("params");
   const ConfigNode& at = params.valid() ? params : config.node;
   try {
@@ -166,6 +186,8 @@ void Simulation::AttachController(Robot& robot, int line) {
                              "': it threw something that is not a std::exception");
     context_->diagnostics.ThrowIfAny();
   }
+  // What Init read is not a poll of a tick (bus accounting).
+  for (size_t i = 0; i < ns; ++i) robot.sensors[i]->TakeRead();
   if (!config.params_checked) {
     config.params_checked = true;
     // A controller that declares its parameters read only those, with the
@@ -196,6 +218,13 @@ void Simulation::AttachController(Robot& robot, int line) {
       context_->diagnostics.ThrowIfAny();
     } catch (const std::exception& e) {
       config.node.ElementError("controller '" + config.label + "' failed to start: " + e.what());
+      context_->diagnostics.ThrowIfAny();
+    }
+    if (config.batch && config.step_period > 0) {
+      config.batch.reset();
+      config.node.Error("rate", config.node.GetString("rate", ""),
+                        "controller '" + config.label +
+                            "' steps its robots together (a batch), every tick; it takes no rate");
       context_->diagnostics.ThrowIfAny();
     }
   }
@@ -418,9 +447,24 @@ void Simulation::SenseAndControl() {
       error_message = message;
     }
   };
+  // The tick being computed: which sensors sample on it (period="..."),
+  // which configurations have events to deliver.
+  const uint64_t now = tick_ + 1;
+  if (!sensors_every_tick_) {
+    for (size_t k = 0; k < sensor_systems_.size(); ++k)
+      sensor_due_[k] = sensor_schedules_[k].Due(now);
+  }
+  bool all_plain = true;
+  for (auto& config : controller_configs_) {
+    config->watching = false;
+    for (SensorSystem* s : config->sensors) config->watching = config->watching || s->HasWatches();
+    all_plain = all_plain && config->Plain();
+  }
   auto control = [&](size_t b, size_t e) {
-    RunningScope running({"controller", nullptr, nullptr, nullptr, tick_ + 1});
+    RunningScope running({"controller", nullptr, nullptr, nullptr, now});
     RunningCode& code = running.code();
+    // This thread's event list, kept from tick to tick (no allocation once warm).
+    static thread_local std::vector<SensorEvent> events;
     for (size_t i = b; i < e; ++i) {
       Robot& r = robots_[i];
       if (!r.alive) continue;
@@ -428,7 +472,11 @@ void Simulation::SenseAndControl() {
       code.library = r.config->library;
       code.robot = space_.id(r.entity.index).c_str();
       try {
-        r.controller->ControlStep();
+        if (all_plain || r.config->Plain()) {
+          r.controller->ControlStep();
+        } else {
+          StepTimed(r, now, events);
+        }
       } catch (const std::exception& ex) {
         fail(i, ex.what());
       } catch (...) {
@@ -441,16 +489,34 @@ void Simulation::SenseAndControl() {
     // still in cache. Sensors read only the space and the media, which
     // controllers do not change during this step, so the results are those
     // of sensing every robot first.
-    const auto& sensors = robots_.front().config->sensors;
+    const ControllerConfig& config = *robots_.front().config;
+    const auto& sensors = config.sensors;
     pool_->ParallelFor(robots_.size(), 64, [&](size_t b, size_t e) {
-      for (SensorSystem* s : sensors) s->Update(b, e);
+      if (sensors_every_tick_) {
+        for (SensorSystem* s : sensors) s->Update(b, e);
+      } else {
+        for (size_t k = 0; k < sensors.size(); ++k) {
+          if (sensor_due_[config.sensor_slots[k]]) sensors[k]->Update(b, e);
+        }
+      }
       control(b, e);
     });
   } else {
-    for (auto& s : sensor_systems_) {
-      pool_->ParallelFor(s->size(), 64, [&](size_t b, size_t e) { s->Update(b, e); });
+    for (size_t k = 0; k < sensor_systems_.size(); ++k) {
+      if (!sensor_due_[k] && !sensors_every_tick_) continue;
+      SensorSystem& s = *sensor_systems_[k];
+      pool_->ParallelFor(s.size(), 64, [&](size_t b, size_t e) { s.Update(b, e); });
     }
     pool_->ParallelFor(robots_.size(), 64, control);
+  }
+  if (any_bus_) {
+    // In robot order, after the parallel part: the same sum whatever the
+    // thread count.
+    for (Robot& r : robots_) {
+      bus_bytes_ += r.bus_bytes;
+      r.bus_bytes = 0;
+    }
+    metrics_.Set("bus_bytes", static_cast<double>(bus_bytes_));
   }
   if (error_robot != SIZE_MAX) {
     const Robot& r = robots_[error_robot];
@@ -459,6 +525,29 @@ void Simulation::SenseAndControl() {
                          std::to_string(tick_ + 1) + ": " + error_message);
   }
   StepBatches();
+}
+
+void Simulation::StepTimed(Robot& r, uint64_t tick, std::vector<SensorEvent>& events) {
+  ControllerConfig& config = *r.config;
+  const size_t ns = config.sensors.size();
+  // Events first, sensor by sensor, then the step when due.
+  if (config.watching) {
+    for (size_t k = 0; k < ns; ++k) {
+      SensorSystem& system = *config.sensors[k];
+      if (!system.HasWatches()) continue;
+      events.clear();
+      system.TakeEvents(r.sensors[k], events);
+      if (config.any_bus && config.sensor_bus[k]) r.bus_bytes += events.size() * BusEventBytes();
+      for (const SensorEvent& event : events) r.controller->OnEvent(event);
+    }
+  }
+  if (config.step_period == 0 || r.step.Due(tick)) r.controller->ControlStep();
+  // A sensor the controller read (in OnEvent or ControlStep) was polled.
+  if (!config.any_bus) return;
+  for (size_t k = 0; k < ns; ++k) {
+    if (config.sensor_bus[k] && r.sensors[k]->TakeRead())
+      r.bus_bytes += BusPollBytes(config.sensors[k]->BusValues(r.sensors[k]));
+  }
 }
 
 void Simulation::StepBatches() {

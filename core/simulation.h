@@ -27,6 +27,7 @@
 #include "core/loop_functions.h"
 #include "core/medium.h"
 #include "core/renderer.h"
+#include "core/schedule.h"
 #include "core/space.h"
 #include "core/thread_pool.h"
 
@@ -272,6 +273,20 @@ class Simulation {
     std::unique_ptr<ControllerBatch> batch;
     std::vector<Controller*> members;
     std::vector<std::pair<uint32_t, Controller*>> by_slot;
+    // Rates and events (docs/events.md). `sensor_slots`: each sensor's index
+    // in sensor_systems_; `sensor_bus`: whether it has bus accounting.
+    std::vector<size_t> sensor_slots;
+    std::vector<uint8_t> sensor_bus;
+    bool any_bus = false;
+    // rate="...": the controller's period in ticks (0: every tick) and its
+    // phase in ticks, or a random phase per robot.
+    double step_period = 0, step_phase = 0;
+    bool random_phase = false;
+    // Set each tick: some sensor of it has watches (events to deliver).
+    bool watching = false;
+    // Whether its robots are stepped as without rates, events and bus (the
+    // plain path, which this tick's flags decide).
+    bool Plain() const { return step_period == 0 && !any_bus && !watching; }
   };
   struct Robot {
     EntityHandle entity;  // its id is the space's (a reference that stays valid)
@@ -280,6 +295,8 @@ class Simulation {
     Sensor** sensors = nullptr;      // in sensor_tables_
     Actuator** actuators = nullptr;  // in actuator_tables_
     bool alive = true;
+    Schedule step;           // the ticks its controller steps on (rate="...")
+    uint64_t bus_bytes = 0;  // bytes on its bus this tick (bus accounting)
   };
 
   // Building (core/simulation_create.cpp), in the order Create calls them.
@@ -347,8 +364,15 @@ class Simulation {
   std::string ComponentProblem(uint32_t slot, const std::vector<std::string>& needed,
                                const PhysicsEngine* engine, bool attaching) const;
   void AttachController(Robot& robot, int line);
+  // The sampling periods and bus flags of a configuration's sensors and its
+  // rate (docs/events.md), read from their elements.
+  void ReadTiming(ControllerConfig& config);
+  double ReadPhase(const ConfigNode& node, double period, const std::string& owner);
   void Act();
   void SenseAndControl();
+  // One robot's events, step (when due) and bus bytes, for configurations
+  // with rates, events or bus accounting (ControllerConfig::Plain false).
+  void StepTimed(Robot& robot, uint64_t tick, std::vector<SensorEvent>& events);
   // Steps the configurations' batches (ControllerBatch), serially, in the
   // order of <controllers>. Throws RuntimeFailure naming the one that threw.
   void StepBatches();
@@ -414,6 +438,13 @@ class Simulation {
   std::vector<int16_t> engine_of_;  // per space slot
   std::vector<int> line_of_;        // per space slot: the entity's line in the file (0: none)
   std::vector<std::unique_ptr<SensorSystem>> sensor_systems_;
+  // Per sensor system: when it samples (period="..."), and whether it does
+  // on the tick being computed; all every tick when sensors_every_tick_.
+  std::vector<Schedule> sensor_schedules_;
+  std::vector<uint8_t> sensor_due_;
+  bool sensors_every_tick_ = true;
+  bool any_bus_ = false;    // some sensor has bus accounting: the bus_bytes metric
+  uint64_t bus_bytes_ = 0;  // every robot's bus bytes since the start
   std::vector<std::unique_ptr<ActuatorSystem>> actuator_systems_;
   std::vector<std::unique_ptr<ControllerConfig>> controller_configs_;
   std::deque<Robot> robots_;  // stable addresses: controllers point at their tables

@@ -67,6 +67,7 @@ void Simulation::Build(const ExperimentSpec& spec) {
   // Media first: sensors and actuators look theirs up when configured.
   CreateMedia(spec.media);
   CreateControllers(spec.controllers);
+  if (any_bus_) metrics_.Set("bus_bytes", 0);
   CreateEngines(spec.engines);
   CreateRenderers(spec.renderers);
   diagnostics.ThrowIfAny();
@@ -151,6 +152,11 @@ std::string Simulation::TearDown() {
   controller_configs_.clear();
   actuator_systems_.clear();
   sensor_systems_.clear();
+  sensor_schedules_.clear();
+  sensor_due_.clear();
+  sensors_every_tick_ = true;
+  any_bus_ = false;
+  bus_bytes_ = 0;
   line_of_.clear();
   engine_of_.clear();
   model_storage_.clear();
@@ -207,9 +213,85 @@ void Simulation::CreateControllers(const std::vector<ControllerSpec>& controller
     config->params = c.params;
     CreateDevices(c.sensors, "sensor", config->sensor_labels, config->sensor_names, config->sensors,
                   config->sensor_nodes, sensor_systems_);
+    for (size_t i = 0; i < config->sensors.size(); ++i)
+      config->sensor_slots.push_back(sensor_systems_.size() - config->sensors.size() + i);
+    ReadTiming(*config);
     CreateDevices(c.actuators, "actuator", config->actuator_labels, config->actuator_names,
                   config->actuators, config->actuator_nodes, actuator_systems_);
     controller_configs_.push_back(std::move(config));
+  }
+}
+
+// The phase="..." of a device with a period of `period` seconds, in ticks:
+// seconds in [0, period), or "random" (drawn from a stream named after
+// `owner`). 0 when absent or bad (a bad one is recorded).
+double Simulation::ReadPhase(const ConfigNode& node, double period, const std::string& owner) {
+  if (!node.Has("phase")) return 0;
+  const std::string text = node.GetString("phase", "");
+  const double ticks = Schedule::Snap(period / dt_);
+  if (text == "random") return RandomStream::For(seed_, owner, "phase").Uniform() * ticks;
+  const double phase = node.GetDouble("phase", 0, Range::NonNegative());
+  if (phase >= period) {
+    node.Error("phase", text,
+               "the phase must be shorter than the period (" + FormatNumber(period) +
+                   " s); accepted: a number of seconds in [0, " + FormatNumber(period) +
+                   "), or \"random\"");
+    return 0;
+  }
+  return Schedule::Snap(phase / dt_);
+}
+
+void Simulation::ReadTiming(ControllerConfig& config) {
+  const double tps = 1.0 / dt_;
+  const std::string per_tick =
+      FormatNumber(dt_) + " s at " + FormatNumber(tps) + " ticks per second";
+  for (size_t i = 0; i < config.sensors.size(); ++i) {
+    const ConfigNode& node = config.sensor_nodes[i];
+    Schedule schedule;
+    if (node.Has("period")) {
+      const double period = node.GetDouble("period", dt_, Range::Positive());
+      if (period > 0 && Schedule::Snap(period / dt_) < 1) {
+        node.Error("period", node.GetString("period", ""),
+                   "a sensor samples at most once per tick: the period is shorter than one tick (" +
+                       per_tick + "); give a period >= " + FormatNumber(dt_) +
+                       " s, or more ticks_per_second");
+      } else if (period > 0) {
+        schedule = Schedule(period / dt_,
+                            ReadPhase(node, period, config.id + "/" + config.sensor_labels[i]));
+      }
+    } else if (node.Has("phase")) {
+      node.Error("phase", node.GetString("phase", ""),
+                 "phase is the offset of a period's samples: give period=\"...\" too");
+    }
+    sensors_every_tick_ = sensors_every_tick_ && schedule.every_tick();
+    sensor_schedules_.push_back(schedule);
+    sensor_due_.push_back(1);
+    const bool bus = node.GetBool("bus", false);
+    config.sensor_bus.push_back(bus);
+    config.any_bus = config.any_bus || bus;
+  }
+  any_bus_ = any_bus_ || config.any_bus;
+  const ConfigNode& node = config.node;
+  if (node.Has("rate")) {
+    const double rate = node.GetDouble("rate", tps, Range::Positive());
+    if (rate > 0 && Schedule::Snap(tps / rate) < 1) {
+      node.Error("rate", node.GetString("rate", ""),
+                 "a controller steps at most once per tick: the rate is above the simulation's " +
+                     FormatNumber(tps) + " ticks per second; give a rate <= " + FormatNumber(tps) +
+                     ", or more ticks_per_second");
+    } else if (rate > 0) {
+      config.step_period = Schedule::Snap(tps / rate);
+    }
+  }
+  if (node.Has("phase")) {
+    const std::string text = node.GetString("phase", "");
+    if (!node.Has("rate")) {
+      node.Error("phase", text, "phase is the offset of a rate's steps: give rate=\"...\" too");
+    } else if (text == "random") {
+      config.random_phase = true;
+    } else if (config.step_period > 0) {
+      config.step_phase = ReadPhase(node, config.step_period * dt_, "");
+    }
   }
 }
 

@@ -241,7 +241,7 @@ void SpecReader::ReadControllers(const ConfigNode& root) {
   controllers.CheckAttributes({});
   std::map<std::string, int> ids;
   for (const ConfigNode& node : controllers.Children()) {
-    node.CheckAttributes({"id", "library"});
+    node.CheckAttributes({"id", "library", "rate", "phase"});
     node.CheckChildren({"sensors", "actuators", "params"});
     const std::string id = node.RequireString("id");
     if (!id.empty()) {
@@ -311,6 +311,8 @@ void SpecReader::ReadDevices(const ConfigNode& section, const std::string& what,
     if (!entry) continue;
     auto names = entry->info.AttributeNames();
     names.push_back("implementation");
+    // Every sensor's sampling period and bus accounting (docs/events.md).
+    if (what == "sensor") names.insert(names.end(), {"period", "phase", "bus"});
     d.CheckAttributes(names);
     devices.push_back(PluginSpec{d.name(), impl, "", d});
   }

@@ -597,6 +597,58 @@ TEST(config_errors, RenderersInABuildWithoutAnImageRendererNameTheOption) {
   EXPECT_TRUE(Mentions(message, {"the renderer <osmesa>" + need}));
 }
 
+// Sampling periods, controller rates and bus accounting (docs/events.md):
+// each bad value named with the file, line, attribute and what is accepted.
+std::string Timed(const std::string& controller_attributes, const std::string& sensors) {
+  return "<colony>\n<framework><experiment length=\"1\" ticks_per_second=\"200\"/></framework>\n"
+         "<controllers>\n<config_errors_probe id=\"probe\" " +
+         controller_attributes + ">\n<sensors>\n" + sensors +
+         "\n</sensors>\n</config_errors_probe>\n</controllers>\n"
+         "<arena size=\"2,2,1\">" +
+         Robot("r", "0,0,0") +
+         "</arena>\n<physics_engines><kinematics2d id=\"k\"/></physics_engines>\n</colony>\n";
+}
+
+TEST(config_errors, SensorPeriodsMustBePositiveAndNoShorterThanATick) {
+  for (const std::string bad : {"0", "-0.01"}) {
+    const std::string message = LoadError(Timed("", "<proximity period=\"" + bad + "\"/>"));
+    EXPECT_TRUE(Mentions(
+        message, {"<string>:6:", "<proximity>", "attribute 'period'", "'" + bad + "'", "> 0"}))
+        << message;
+  }
+  const std::string message = LoadError(Timed("", "<proximity period=\"0.001\"/>"));
+  EXPECT_TRUE(Mentions(message, {"<string>:6:", "attribute 'period'", "'0.001'",
+                                 "shorter than one tick", "0.005 s at 200 ticks per second"}))
+      << message;
+  EXPECT_EQ(LoadError(Timed("", "<proximity period=\"0.005\"/>")), "");
+}
+
+TEST(config_errors, ControllerRatesMustBePositiveAndNoFasterThanTheTicks) {
+  const std::string fast = LoadError(Timed("rate=\"300\"", "<proximity/>"));
+  EXPECT_TRUE(Mentions(fast, {"<string>:4:", "attribute 'rate'", "'300'",
+                              "above the simulation's 200 ticks per second"}))
+      << fast;
+  const std::string zero = LoadError(Timed("rate=\"0\"", "<proximity/>"));
+  EXPECT_TRUE(Mentions(zero, {"<string>:4:", "attribute 'rate'", "'0'", "> 0"})) << zero;
+  const std::string phase = LoadError(Timed("rate=\"10\" phase=\"0.1\"", "<proximity/>"));
+  EXPECT_TRUE(Mentions(phase, {"<string>:4:", "attribute 'phase'", "'0.1'", "[0, 0.1)"})) << phase;
+  const std::string alone = LoadError(Timed("phase=\"random\"", "<proximity/>"));
+  EXPECT_TRUE(Mentions(alone, {"<string>:4:", "attribute 'phase'", "give rate"})) << alone;
+  EXPECT_EQ(LoadError(Timed("rate=\"200\" phase=\"random\"", "<proximity/>")), "");
+}
+
+TEST(config_errors, BusAccountingOnASensorWithoutABusModel) {
+  const std::string message = LoadError(Timed("", "<positioning bus=\"true\"/>"));
+  EXPECT_TRUE(Mentions(
+      message, {"<string>:6:", "attribute 'bus'", "'positioning' has no bus model", "proximity"}))
+      << message;
+  const std::string actuator = LoadError(
+      "<colony>\n<framework><experiment length=\"1\"/></framework>\n<controllers>\n"
+      "<config_errors_probe id=\"probe\"><actuators><leds period=\"0.1\"/></actuators>"
+      "</config_errors_probe></controllers><arena size=\"2,2,1\"/></colony>");
+  EXPECT_TRUE(Mentions(actuator, {"attribute 'period'"})) << actuator;
+}
+
 }  // namespace
 }  // namespace colony::testing
 

@@ -15,8 +15,14 @@ class ProximitySensor : public Sensor {
     float angle;  // direction of the sensor in the robot's frame, counter-clockwise from the front
                   // (rad)
   };
-  // One reading per sensor, in ring order.
-  const std::vector<Reading>& readings() const { return readings_; }
+  // One reading per sensor, in ring order. Reading them is a poll of the
+  // ring, counted on the robot's bus when it has bus accounting (docs/events.md).
+  const std::vector<Reading>& readings() const {
+    MarkRead();
+    return readings_;
+  }
+  // Watch (Sensor::Watch): events when a reading's value crosses a
+  // threshold; `reading` is the sensor's index in ring order.
 
  protected:
   std::vector<Reading> readings_;

@@ -4,14 +4,17 @@
 //   value = min(1, 0.01 m / d)   (1 within 1 cm, 0.1 at 10 cm, 0 beyond range)
 // then noise is added and the value clamped to [0, 1].
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <deque>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include "core/device.h"
 #include "core/entity_type.h"
 #include "core/geometry2d.h"
+#include "core/sensor_events.h"
 #include "core/simulation.h"
 #include "sensors/proximity/proximity.h"
 
@@ -21,6 +24,18 @@ namespace {
 struct ProximityInstance : ProximitySensor, InstanceBase {
   using Interface = ProximitySensor;
   std::vector<Reading>& mutable_readings() { return readings_; }
+  // The readings, without counting a poll (ProximitySensor::readings does).
+  const std::vector<Reading>& stored() const { return readings_; }
+  int Watch(const ThresholdWatch& watch) override {
+    if (!watches) watches = std::make_unique<ThresholdWatches>();
+    const int id = watches->Add(watch, static_cast<int>(readings_.size()),
+                                [this](int i) { return readings_[i].value; });
+    any_watch->store(true, std::memory_order_relaxed);
+    return id;
+  }
+  // Null until the controller calls Watch: most robots never do.
+  std::unique_ptr<ThresholdWatches> watches;
+  std::atomic<bool>* any_watch = nullptr;  // the system's: some instance has watches
   const RingMount* mount = nullptr;
   // Unit vectors of the sensors in the robot frame, one per reading. Shared by
   // every robot with the same ring (owned by the system): a private copy
@@ -45,10 +60,21 @@ class ProximitySystem : public SensorSystem {
       p.mutable_readings()[i] = {0.0f, static_cast<float>(WrapAngle(mount->AngleOf(i)))};
     }
     p.directions = directions_.Of(*mount);
+    p.any_watch = &any_watch_;
     return &p;
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<ProximitySensor*>(s)); }
   size_t size() const override { return instances_.size(); }
+  bool HasWatches() const override { return any_watch_.load(std::memory_order_relaxed); }
+  void TakeEvents(Sensor* s, std::vector<SensorEvent>& out) override {
+    auto* p = static_cast<ProximityInstance*>(static_cast<ProximitySensor*>(s));
+    if (p->watches) p->watches->Take(out);
+  }
+  size_t BusValues(const Sensor* s) const override {
+    return static_cast<const ProximityInstance*>(static_cast<const ProximitySensor*>(s))
+        ->stored()
+        .size();
+  }
 
   // Most robots of a swarm have nothing within the few centimetres their
   // sensors reach, so neighbours are first culled by distance (cheap, from
@@ -95,6 +121,7 @@ class ProximitySystem : public SensorSystem {
       if (near.empty()) {
         // Nothing in range: every ray misses.
         for (auto& r : readings) r.value = static_cast<float>(Noisy(0.0, p.rng));
+        if (p.watches) CheckWatches(p);
         continue;
       }
       const double yaw = YawOf(pose.orientation);
@@ -110,17 +137,22 @@ class ProximitySystem : public SensorSystem {
         const double value = best <= range ? std::min(1.0, 0.01 / std::max(best, 1e-6)) : 0.0;
         readings[i].value = static_cast<float>(Noisy(value, p.rng));
       }
+      if (p.watches) CheckWatches(p);
     }
   }
 
   void Hash(StateHasher& h) const override {
     for (size_t k = 0; k < instances_.size(); ++k) {
-      const auto& r = instances_[k].readings();
+      const auto& r = instances_[k].stored();
       if (instances_[k].alive) h.Add(r.data(), r.size() * sizeof(r[0]));
     }
   }
 
  private:
+  static void CheckWatches(ProximityInstance& p) {
+    const auto& readings = p.stored();
+    p.watches->Check(&p, [&readings](int i) { return readings[i].value; });
+  }
   double Noisy(double value, RandomStream& rng) const {
     if (!noise_.enabled()) return value;
     return noise_.Drop(rng) ? 0.0 : std::clamp(noise_.Apply(value, rng), 0.0, 1.0);
@@ -130,6 +162,7 @@ class ProximitySystem : public SensorSystem {
   NoiseModel noise_;
   InstanceStore<ProximityInstance> instances_;
   RingDirections directions_;  // per ring mount (one per robot type)
+  std::atomic<bool> any_watch_{false};
 };
 
 std::vector<AttributeDoc> ProximityAttributes() {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "actuators/differential_steering/differential_steering.h"
 #include "core/registry.h"
 #include "tests/test_util.h"
 
@@ -339,6 +340,217 @@ TEST(Proximity, ReadingsUpdateAsTheWorldChanges) {
   sim->RemoveEntity(box);
   sim->Step();
   EXPECT_EQ(MaxOf(Readings(*sim, "r")), 0.0f);
+}
+
+// Sampling periods, rates and events (docs/events.md).
+
+// Drives at `speed` for `forward` ticks, then back at the same speed; counts
+// its steps; with watch="true" asks its ring (or the sensor named by
+// `sensor`) for events on reading 0 crossing `threshold` (crossing: rising,
+// falling or both), and records them with the tick they came on.
+class EventProbe : public Controller {
+ public:
+  void Init(const Params& params) override {
+    ring = &GetSensor<ProximitySensor>("proximity");
+    wheels_ = &GetActuator<DifferentialSteering>("differential_steering");
+    speed_ = params.GetDouble("speed", 0);
+    forward_ = params.GetInt("forward", 1000000);
+    if (params.GetBool("watch", false)) {
+      ThresholdWatch watch;
+      watch.reading = 0;
+      watch.threshold = params.GetDouble("threshold", 0.2);
+      watch.hysteresis = params.GetDouble("hysteresis", 0);
+      const std::string crossing = params.GetString("crossing", "both");
+      watch.crossing = crossing == "rising"    ? Crossing::kRising
+                       : crossing == "falling" ? Crossing::kFalling
+                                               : Crossing::kBoth;
+      GetSensor<Sensor>(params.GetString("sensor", "proximity")).Watch(watch);
+    }
+  }
+  void ControlStep() override {
+    ++steps;
+    const double v = steps <= forward_ ? speed_ : -speed_;
+    wheels_->SetLinearVelocity(v, v);
+    if (read) (void)ring->readings();
+  }
+  void OnEvent(const SensorEvent& event) override { events.push_back(event); }
+
+  ProximitySensor* ring = nullptr;
+  int64_t steps = 0;
+  bool read = false;
+  std::vector<SensorEvent> events;
+
+ private:
+  DifferentialSteering* wheels_ = nullptr;
+  double speed_ = 0;
+  int64_t forward_ = 0;
+};
+
+COLONY_REGISTER_CONTROLLER(EventProbe, "event_probe", "test: drives, counts steps and events");
+
+std::string EventProbeController(const std::string& controller_attributes,
+                                 const std::string& proximity_attributes, const std::string& params,
+                                 const std::string& more_sensors = "") {
+  return "<event_probe id=\"pp\" " + controller_attributes +
+         "><actuators><differential_steering/></actuators><sensors><proximity " +
+         proximity_attributes + "/>" + more_sensors + "</sensors><params " + params +
+         "/></event_probe>";
+}
+
+EventProbe& ProbeOf(Simulation& sim) {
+  return *dynamic_cast<EventProbe*>(sim.ControllerOf(sim.space().Find("r")));
+}
+
+TEST(ProximitySampling, At67HzIn200TicksPerSecondTheReadingsChangeAtMostEveryThirdTick) {
+  // A robot near a wall with noisy readings: a fresh sample always differs
+  // from the last one, so the readings change exactly on the sampling ticks.
+  // period="0.015" is the marXbot's 67 Hz (seed 000's 15 ms).
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Box("w", "0.1,1,0.5", "0.19,0,0"),
+                                EventProbeController("",
+                                                     "period=\"0.015\" noise=\"gaussian\" "
+                                                     "noise_std_dev=\"0.05\"",
+                                                     "")),
+                     {"framework.experiment.ticks_per_second=200"});
+  EventProbe& probe = ProbeOf(*sim);
+  std::vector<float> last(24, 0.0f);
+  std::vector<uint64_t> changed;
+  for (int t = 0; t < 60; ++t) {
+    sim->Step();
+    const auto& readings = probe.ring->readings();
+    bool differs = false;
+    for (size_t i = 0; i < readings.size(); ++i) {
+      differs = differs || readings[i].value != last[i];
+      last[i] = readings[i].value;
+    }
+    if (differs) changed.push_back(sim->tick());
+  }
+  ASSERT_EQ(changed.size(), 20u);
+  EXPECT_EQ(changed.front(), 1u);
+  for (size_t i = 1; i < changed.size(); ++i) {
+    EXPECT_GE(changed[i] - changed[i - 1], 3u)
+        << "changed on ticks " << changed[i - 1] << " and " << changed[i];
+  }
+  // The controller still steps every tick, reading the held values.
+  EXPECT_EQ(probe.steps, 60);
+}
+
+TEST(ProximitySampling, AControllerAt25HzIn200TicksPerSecondStepsEveryEighthTick) {
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0"), EventProbeController("rate=\"25\"", "", "")),
+                     {"framework.experiment.ticks_per_second=200"});
+  RunFor(*sim, 1.0);
+  EXPECT_EQ(ProbeOf(*sim).steps, 25);
+  auto at67 = LoadXml(Experiment(Robot("r", "0,0,0"), EventProbeController("rate=\"67\"", "", "")),
+                      {"framework.experiment.ticks_per_second=200"});
+  RunFor(*at67, 3.0);
+  EXPECT_EQ(ProbeOf(*at67).steps, 3 * 67);
+}
+
+// The robot drives 6 cm towards a wall 8 cm ahead, then backs away: reading 0
+// rises past 0.2 (5 cm) once and falls back below it once.
+struct Crossings {
+  std::vector<SensorEvent> events;
+  std::vector<uint64_t> event_ticks, rose, fell;  // ticks: of events; reading 0 seen crossing
+};
+
+Crossings DriveToWallAndBack(const std::string& params, const std::string& noise = "") {
+  auto sim = LoadXml(Experiment(Robot("r", "0,0,0") + Box("w", "0.1,1,0.5", "0.215,0,0"),
+                                EventProbeController("", noise,
+                                                     "speed=\"0.05\" forward=\"12\" watch=\"true\" "
+                                                     "threshold=\"0.2\" " +
+                                                         params)));
+  EventProbe& probe = ProbeOf(*sim);
+  Crossings c;
+  bool above = false;
+  for (int t = 0; t < 40; ++t) {
+    const size_t before = probe.events.size();
+    sim->Step();
+    for (size_t i = before; i < probe.events.size(); ++i) c.event_ticks.push_back(sim->tick());
+    const double v = probe.ring->readings()[0].value;
+    if (!above && v >= 0.2) c.rose.push_back(sim->tick());
+    if (above && v < 0.2) c.fell.push_back(sim->tick());
+    above = v >= 0.2;
+  }
+  c.events = probe.events;
+  return c;
+}
+
+TEST(ProximityEvents, AThresholdEventFiresExactlyOncePerCrossing) {
+  const Crossings c = DriveToWallAndBack("crossing=\"both\"");
+  ASSERT_EQ(c.rose.size(), 1u);
+  ASSERT_EQ(c.fell.size(), 1u);
+  ASSERT_EQ(c.events.size(), 2u);
+  EXPECT_TRUE(c.events[0].rising);
+  EXPECT_EQ(c.event_ticks[0], c.rose[0]);
+  EXPECT_GE(c.events[0].value, 0.2);
+  EXPECT_EQ(c.events[0].reading, 0);
+  EXPECT_FALSE(c.events[1].rising);
+  EXPECT_EQ(c.event_ticks[1], c.fell[0]);
+  EXPECT_LT(c.events[1].value, 0.2);
+  // The reading stayed above the threshold for several ticks in between.
+  EXPECT_GT(c.fell[0] - c.rose[0], 3u);
+
+  const Crossings rising = DriveToWallAndBack("crossing=\"rising\"");
+  ASSERT_EQ(rising.events.size(), 1u);
+  EXPECT_TRUE(rising.events[0].rising);
+  const Crossings falling = DriveToWallAndBack("crossing=\"falling\"");
+  ASSERT_EQ(falling.events.size(), 1u);
+  EXPECT_FALSE(falling.events[0].rising);
+}
+
+TEST(ProximityEvents, HysteresisKeepsNoiseAroundTheThresholdFromFiringAgain) {
+  // Noise of 0.01 around a threshold the reading passes slowly would cross
+  // it back and forth; a hysteresis of 0.05 leaves one rise and one fall.
+  const Crossings c =
+      DriveToWallAndBack("hysteresis=\"0.05\"", "noise=\"gaussian\" noise_std_dev=\"0.01\"");
+  ASSERT_EQ(c.events.size(), 2u);
+  EXPECT_TRUE(c.events[0].rising);
+  EXPECT_FALSE(c.events[1].rising);
+}
+
+TEST(ProximityEvents, ASensorThatEmitsNoEventsIsNamedWithTheControllersLine) {
+  const std::string message = LoadError(Experiment(
+      Robot("r", "0,0,0"),
+      EventProbeController("", "", "watch=\"true\" sensor=\"positioning\"", "<positioning/>")));
+  EXPECT_TRUE(testing::Mentions(message, {"<string>:1:", "event_probe", "emits no events"}))
+      << message;
+  const std::string unknown = LoadError(Experiment(
+      Robot("r", "0,0,0"), EventProbeController("", "", "watch=\"true\" sensor=\"ring2\"")));
+  EXPECT_TRUE(testing::Mentions(unknown, {"<string>:1:", "'ring2'", "not declared"})) << unknown;
+}
+
+TEST(ProximityBus, PollingAt67HzCounts61BytesAPollAndEventsSevenBytes) {
+  auto sim =
+      LoadXml(Experiment(Robot("r", "0,0,0"),
+                         EventProbeController("rate=\"67\"", "period=\"0.015\" bus=\"true\"", "")),
+              {"framework.experiment.ticks_per_second=200"});
+  ProbeOf(*sim).read = true;
+  RunFor(*sim, 2.0);
+  EXPECT_EQ(testing::Metric(*sim, "bus_bytes"), 2 * 4087);
+  // Without reading the ring, only its events count: one rise, one fall.
+  auto events = LoadXml(Experiment(Robot("r", "0,0,0") + Box("w", "0.1,1,0.5", "0.215,0,0"),
+                                   EventProbeController("", "bus=\"true\"",
+                                                        "speed=\"0.05\" forward=\"12\" "
+                                                        "watch=\"true\" threshold=\"0.2\"")));
+  RunFor(*events, 4.0);
+  EXPECT_EQ(ProbeOf(*events).events.size(), 2u);
+  EXPECT_EQ(testing::Metric(*events, "bus_bytes"), 2 * 7);
+}
+
+TEST(ProximityBus, WithoutSamplingPeriodsRatesOrBusTheStateHashIsUnchanged) {
+  // The attributes at their defaults give the run without them.
+  const std::string plain = Experiment(Robot("r", "0,0,0") + Box("w", "0.1,1,0.5", "0.215,0,0"),
+                                       EventProbeController("",
+                                                            "noise=\"gaussian\" "
+                                                            "noise_std_dev=\"0.02\"",
+                                                            "speed=\"0.05\" forward=\"12\""));
+  std::string spelled = plain;
+  spelled.replace(spelled.find("noise=\"gaussian\""), 0, "period=\"0.1\" bus=\"false\" ");
+  auto a = LoadXml(plain), b = LoadXml(spelled);
+  for (int t = 0; t < 30; ++t) {
+    a->Step();
+    b->Step();
+    ASSERT_EQ(a->StateHash(), b->StateHash()) << "tick " << a->tick();
+  }
 }
 
 }  // namespace
