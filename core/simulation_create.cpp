@@ -233,7 +233,7 @@ double Simulation::ReadPhase(const ConfigNode& node, double period, const std::s
   const double phase = node.GetDouble("phase", 0, Range::NonNegative());
   if (phase >= period) {
     node.Error("phase", text,
-               "the phase must be shorter than the period (" + FormatNumber(period) +
+               "the phase '" + text + "' must be shorter than the period (" + FormatNumber(period) +
                    " s); accepted: a number of seconds in [0, " + FormatNumber(period) +
                    "), or \"random\"");
     return 0;
@@ -252,9 +252,9 @@ void Simulation::ReadTiming(ControllerConfig& config) {
       const double period = node.GetDouble("period", dt_, Range::Positive());
       if (period > 0 && Schedule::Snap(period / dt_) < 1) {
         node.Error("period", node.GetString("period", ""),
-                   "a sensor samples at most once per tick: the period is shorter than one tick (" +
-                       per_tick + "); give a period >= " + FormatNumber(dt_) +
-                       " s, or more ticks_per_second");
+                   "a sensor samples at most once per tick: the period '" +
+                       node.GetString("period", "") + "' is shorter than one tick (" + per_tick +
+                       "); give a period >= " + FormatNumber(dt_) + " s, or more ticks_per_second");
       } else if (period > 0) {
         schedule = Schedule(period / dt_,
                             ReadPhase(node, period, config.id + "/" + config.sensor_labels[i]));
@@ -276,7 +276,8 @@ void Simulation::ReadTiming(ControllerConfig& config) {
     const double rate = node.GetDouble("rate", tps, Range::Positive());
     if (rate > 0 && Schedule::Snap(tps / rate) < 1) {
       node.Error("rate", node.GetString("rate", ""),
-                 "a controller steps at most once per tick: the rate is above the simulation's " +
+                 "a controller steps at most once per tick: the rate '" +
+                     node.GetString("rate", "") + "' is above the simulation's " +
                      FormatNumber(tps) + " ticks per second; give a rate <= " + FormatNumber(tps) +
                      ", or more ticks_per_second");
     } else if (rate > 0) {

@@ -16,6 +16,7 @@ namespace {
 using testing::Experiment;
 using testing::LoadError;
 using testing::LoadXml;
+using testing::RunFor;
 
 // Copies what its proximity ring read at every control step.
 class ProximityProbe : public Controller {
