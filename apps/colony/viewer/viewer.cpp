@@ -243,6 +243,12 @@ std::string ReadNumber(const json& message, const std::string& cmd, const char* 
 std::string ParseCommand(const std::string& payload, bool binary, Command& command) {
   if (binary)
     return "binary messages are not commands; send JSON text: " + std::string(kCommandsAccepted);
+  // JSON text holds no NUL byte (in a string it is written \u0000); nlohmann's
+  // parser takes one as the end of its input and would ignore what follows.
+  if (const size_t nul = payload.find('\0'); nul != std::string::npos) {
+    return "a NUL byte at byte " + std::to_string(nul) + ": not JSON; expected " +
+           kCommandsAccepted;
+  }
   const json message = json::parse(payload, nullptr, /*allow_exceptions=*/false);
   if (message.is_discarded()) return std::string("not JSON; expected ") + kCommandsAccepted;
   if (!message.is_object() || !message.contains("cmd") || !message["cmd"].is_string()) {

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/time.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -215,6 +216,124 @@ void Connect(WebSocketClient& client, const std::string& uri) {
   ASSERT_TRUE(client.Connect(uri, 5s, error)) << uri << ": " << error;
 }
 
+// A WebSocket client on a bare socket, for what a browser never does: stop
+// reading (a stalled page) or send text that is not UTF-8 (websocketpp's own
+// client refuses to).
+class RawWebSocket {
+ public:
+  RawWebSocket() = default;
+  RawWebSocket(const RawWebSocket&) = delete;
+  RawWebSocket& operator=(const RawWebSocket&) = delete;
+  ~RawWebSocket() {
+    if (fd_ >= 0) close(fd_);
+  }
+  // Connects to 127.0.0.1:`port`, with a receive buffer of about
+  // `receive_buffer` bytes when > 0 (the kernel's default otherwise), and
+  // completes the handshake; false when it cannot.
+  bool Connect(int port, int receive_buffer = 0) {
+    fd_ = socket(AF_INET, SOCK_STREAM, 0);
+    if (fd_ < 0) return false;
+    if (receive_buffer > 0)
+      setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof receive_buffer);
+    const timeval timeout{10, 0};
+    setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+    setsockopt(fd_, SOL_SOCKET, SO_SNDTIMEO, &timeout, sizeof timeout);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) return false;
+    const std::string request = "GET / HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) +
+                                "\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                                "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+                                "Sec-WebSocket-Version: 13\r\n\r\n";
+    if (!SendAll(request)) return false;
+    // The reply's head, byte by byte: what follows it is the server's first frames.
+    std::string head;
+    char c;
+    while (head.find("\r\n\r\n") == std::string::npos && recv(fd_, &c, 1, 0) == 1) head += c;
+    return head.rfind("HTTP/1.1 101", 0) == 0;
+  }
+  // Sends `payload` as one masked frame (opcode 1: text); false when the
+  // connection is gone (errno says why) or nothing went for 10 s.
+  bool Send(const std::string& payload, uint8_t opcode = 1) {
+    std::string frame(1, static_cast<char>(0x80 | opcode));
+    const uint64_t n = payload.size();
+    if (n < 126) {
+      frame += static_cast<char>(0x80 | n);
+    } else {
+      frame += static_cast<char>(0x80 | 127);
+      for (int shift = 56; shift >= 0; shift -= 8) frame += static_cast<char>((n >> shift) & 0xFF);
+    }
+    const char mask[4] = {0x37, 0x5a, 0x12, 0x6c};
+    frame.append(mask, 4);
+    for (size_t i = 0; i < payload.size(); ++i)
+      frame += static_cast<char>(payload[i] ^ mask[i % 4]);
+    return SendAll(frame);
+  }
+  // The next frame from the server: its opcode and payload; false when the
+  // connection ends or nothing comes for 10 s.
+  bool Receive(int& opcode, std::string& payload) {
+    unsigned char head[2];
+    if (!ReceiveAll(head, 2)) return false;
+    opcode = head[0] & 0x0F;
+    uint64_t n = head[1] & 0x7F;
+    if (n >= 126) {
+      unsigned char extended[8];
+      const int bytes = n == 126 ? 2 : 8;
+      if (!ReceiveAll(extended, bytes)) return false;
+      n = 0;
+      for (int i = 0; i < bytes; ++i) n = (n << 8) | extended[i];
+    }
+    payload.assign(n, '\0');
+    return ReceiveAll(payload.data(), n);
+  }
+  // Reads until the server's close frame: its status code and reason; 0 when
+  // the connection ends without one.
+  int CloseCode(std::string& reason) {
+    int opcode = 0;
+    std::string payload;
+    while (Receive(opcode, payload)) {
+      if (opcode != 8) continue;
+      if (payload.size() < 2) return 0;
+      reason = payload.substr(2);
+      return (static_cast<unsigned char>(payload[0]) << 8) | static_cast<unsigned char>(payload[1]);
+    }
+    return 0;
+  }
+
+ private:
+  bool SendAll(const std::string& data) {
+    for (size_t sent = 0; sent < data.size();) {
+      const ssize_t k = ::send(fd_, data.data() + sent, data.size() - sent, MSG_NOSIGNAL);
+      if (k <= 0) return false;
+      sent += static_cast<size_t>(k);
+    }
+    return true;
+  }
+  bool ReceiveAll(void* out, size_t n) {
+    char* p = static_cast<char*>(out);
+    for (size_t got = 0; got < n;) {
+      const ssize_t k = recv(fd_, p + got, n - got, 0);
+      if (k <= 0) return false;
+      got += static_cast<size_t>(k);
+    }
+    return true;
+  }
+
+  int fd_ = -1;
+};
+
+// This process's resident memory (VmRSS, bytes).
+size_t ResidentBytes() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stoull(line.substr(6)) * 1024;
+  }
+  return 0;
+}
+
 // Turns on the spot (wheels 0.01 and 0.02 m/s... then reversed each tick)
 // and gives its step count and a state label.
 class ViewerProbe : public Controller {
@@ -364,8 +483,26 @@ TEST(Viewer, BadMessagesGetAnErrorReplyAndChangeNothing) {
   WebSocketClient client;
   Connect(client, served.ws());
   Next(client, "frame");
-  const std::pair<const char*, const char*> bad[] = {
+  using namespace std::string_literals;
+  const std::pair<std::string, const char*> bad[] = {
       {"garbage", "not JSON"},
+      {"", "not JSON"},
+      {" \t\r\n", "not JSON"},
+      {R"({"cmd":"play"} {"cmd":"step"})", "not JSON"},
+      // A NUL ends the parser's input: what follows a command must not be ignored.
+      {"{\"cmd\":\"play\"}\0garbage"s, "a NUL byte"},
+      {"{\"cmd\":\"play\"}\0"s, "a NUL byte"},
+      {R"({"cmd":"\ud800"})", "not JSON"},  // half a UTF-16 surrogate pair
+      {R"({"cmd":"pl\u00e4y"})", "unknown command 'pl\xc3\xa4y'"},
+      {"{\"cmd\":\"\xf0\x9f\x90\x9c\"}", "unknown command '\xf0\x9f\x90\x9c'"},
+      {std::string(3000, '['), "not JSON"},
+      {std::string(2000, '[') + std::string(2000, ']'), "expected a JSON object"},
+      {R"({"cmd":"speed","value":1e999})", "not JSON"},
+      {R"({"cmd":"play","cmd":"fly"})", "unknown command 'fly'"},
+      {R"({"cmd":"reset","seed":1.5})", "reset seed 1.5 is not accepted"},
+      {R"({"cmd":"move","id":"mb3","x":"1","y":0})", "move x \"1\" is not accepted"},
+      {R"({"cmd":"inspect","id":"\u0000"})", "there is no entity"},
+      {R"({"cmd":"inspect","id":["mb3"]})", "inspect id [\"mb3\"] is not accepted"},
       {"[1,2,3]", "expected a JSON object with a string \"cmd\""},
       {R"({"cmd":"fly"})", "unknown command 'fly'"},
       {R"({"cmd":42})", "expected a JSON object with a string \"cmd\""},
@@ -387,6 +524,25 @@ TEST(Viewer, BadMessagesGetAnErrorReplyAndChangeNothing) {
   auto reply = Next(client, "error");
   ASSERT_TRUE(reply);
   EXPECT_NE(reply->payload.find("binary messages are not commands"), std::string::npos);
+  // Text that is not UTF-8 (sent from a bare socket: websocketpp's client
+  // will not) fails that connection with status 1007 and a reason, as
+  // WebSocket requires (RFC 6455, 8.1); before it, that client's garbage got
+  // the usual error reply.
+  for (const std::string& not_utf8 : {"{\"cmd\":\"\xff\xfe\"}"s, "{\"cmd\":\"pl\xc3\"}"s,
+                                      "{\"cmd\":\"\xc0\xaf\"}"s, "{\"cmd\":\"\xed\xa0\x80\"}"s}) {
+    RawWebSocket raw;
+    ASSERT_TRUE(raw.Connect(served.port()));
+    ASSERT_TRUE(raw.Send(R"({"cmd":"fly"})"));
+    int opcode = 0;
+    std::string payload;
+    while (raw.Receive(opcode, payload) && payload.find("\"error\"") == std::string::npos) {
+    }
+    EXPECT_NE(payload.find("unknown command 'fly'"), std::string::npos) << payload;
+    ASSERT_TRUE(raw.Send(not_utf8));
+    std::string reason;
+    EXPECT_EQ(raw.CloseCode(reason), 1007) << not_utf8;
+    EXPECT_FALSE(reason.empty());
+  }
   // An oversized message closes that connection ("message too big"); the
   // run goes on serving others.
   client.Send("{\"cmd\":\"" + std::string(10000, 'x') + "\"}");
@@ -400,7 +556,103 @@ TEST(Viewer, BadMessagesGetAnErrorReplyAndChangeNothing) {
   EXPECT_EQ(Decode(Next(other, "frame")->payload).tick, 1u);
   other.Close();
   served.Stop();
-  EXPECT_EQ(sim->tick(), 1u);  // the bad messages stepped nothing
+  // The bad messages changed nothing: the run is a plain run stepped once.
+  EXPECT_EQ(sim->tick(), 1u);
+  auto plain = LoadDiffusion();
+  plain->Step();
+  EXPECT_EQ(sim->StateHash(), plain->StateHash());
+}
+
+// A page that stops reading never holds the run back: a bare socket with a
+// tiny receive buffer completes the handshake and reads nothing more while
+// the run plays as fast as it can, sending a frame per tick. Another page
+// keeps getting frames of ever later ticks, each second; the server drops
+// the stalled page's frames (and says so when it ends) instead of queueing
+// them, so the process's memory stays well under what it sent meanwhile.
+TEST(Viewer, AStalledPageNeitherSlowsTheRunNorFillsTheMemory) {
+  ExperimentOptions experiment;
+  experiment.file = COLONY_SOURCE_DIR "/experiments/benchmarks/diffusion_10000.xml";
+  experiment.overrides = {"framework.experiment.length=100000"};
+  experiment.threads = 1;
+  auto sim = Simulation::Load(experiment);  // 10,000 robots: 200 KB frames
+  ServeOptions options;
+  options.start_playing = true;
+  options.speed = 0;                    // as fast as possible
+  options.updates_per_second = 100000;  // a frame after every tick
+  const std::string log = COLONY_BINARY_DIR "/tests/viewer_stalled.log";
+  std::filesystem::create_directories(COLONY_BINARY_DIR "/tests");
+  OpenLogFile(log);
+  Served served(*sim, options);
+  RawWebSocket stalled;
+  ASSERT_TRUE(stalled.Connect(served.port(), 2048));
+  WebSocketClient client;
+  Connect(client, served.ws());
+  // Reads what comes for `seconds`: the last frame's tick and the bytes of frames received.
+  uint64_t tick = 0, bytes = 0;
+  auto read_for = [&](std::chrono::milliseconds seconds) {
+    const auto until = std::chrono::steady_clock::now() + seconds;
+    while (std::chrono::steady_clock::now() < until) {
+      const auto m = client.Receive(100ms);
+      if (!m || !m->binary) continue;
+      bytes += m->payload.size();
+      std::memcpy(&tick, m->payload.data() + 8, 8);
+    }
+  };
+  read_for(1500ms);  // the stalled socket's buffers fill up
+  const size_t memory_before = ResidentBytes();
+  const uint64_t bytes_before = bytes;
+  // At least 4 s, and until 96 MB of frames went to the reading page (the
+  // stalled one would hold as much if they were queued for it).
+  constexpr uint64_t kEnough = 96u << 20;
+  std::vector<uint64_t> ticks = {tick};
+  while (ticks.size() < 5 || (bytes - bytes_before < kEnough && ticks.size() < 31)) {
+    read_for(1000ms);
+    ticks.push_back(tick);
+  }
+  const size_t memory_after = ResidentBytes();
+  const uint64_t sent = bytes - bytes_before;
+  client.Close();
+  EXPECT_EQ(served.Stop(), 0);
+  CloseLogFile();
+  for (size_t k = 1; k < ticks.size(); ++k)
+    EXPECT_GT(ticks[k], ticks[k - 1]) << "the run did not advance in second " << k;
+  EXPECT_GE(sent, kEnough) << "too few frames in " << ticks.size() - 1 << " s to tell";
+  // The server may hold 8 MB queued for the stalled page, a write in flight
+  // and the kernel's buffers. (AddressSanitizer keeps freed memory aside: no
+  // bound on the process's memory holds there.)
+#if !defined(__SANITIZE_ADDRESS__)
+  EXPECT_LT(memory_after, memory_before + (32u << 20)) << "after " << sent << " bytes of frames";
+#endif
+  std::smatch dropped;
+  const std::string text = testing::ReadFile(log);
+  ASSERT_TRUE(std::regex_search(text, dropped, std::regex("(\\d+) not sent to stalled"))) << text;
+  EXPECT_GT(std::stoull(dropped[1]), 100u);
+}
+
+// A page that reads nothing but keeps asking (each speed command is answered
+// with a status to every page, which is never dropped) is cut off once 16 MB
+// of answers wait for it, instead of holding them without bound; the run
+// goes on serving others.
+TEST(Viewer, APageThatAsksButNeverReadsIsCutOff) {
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  RawWebSocket stalled;
+  ASSERT_TRUE(stalled.Connect(served.port(), 2048));
+  const std::string ask = R"({"cmd":"speed","value":"max"})";
+  const auto deadline = std::chrono::steady_clock::now() + 60s;
+  int sent = 0;
+  while (std::chrono::steady_clock::now() < deadline && stalled.Send(ask)) ++sent;
+  const int error = errno;
+  EXPECT_TRUE(error == EPIPE || error == ECONNRESET)
+      << "still connected after " << sent << " commands (" << std::strerror(error) << ")";
+  WebSocketClient other;
+  Connect(other, served.ws());
+  Next(other, "frame");
+  other.Send(R"({"cmd":"step"})");
+  EXPECT_EQ(Decode(Next(other, "frame")->payload).tick, 1u);
+  other.Close();
+  served.Stop();
+  EXPECT_EQ(sim->tick(), 1u);
 }
 
 // Commands out of place (a move while playing, a step's count, a reset
