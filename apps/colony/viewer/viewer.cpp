@@ -633,37 +633,45 @@ class RobotLog {
   std::map<std::string, std::deque<std::string>, std::less<>> lines_;
 };
 
-// The proximity ring's rays of the robot in `slot`, for the page's "rays"
-// overlay: [x0, y0, z, x1, y1, hit] each, from the ring to the nearest
-// solid entity within the ring's range (hit 1) or over the whole range
-// (hit 0); none without a proximity ring. Only for the inspected robot.
+// The proximity ring's rays of the robot in `slot` (CastProximityRays),
+// for the page's "rays" overlay: [x0, y0, z, x1, y1, hit] each; none without
+// a proximity ring.
 json ProximityRays(const Simulation& sim, uint32_t slot) {
+  std::vector<ProximityRay> cast;
+  CastProximityRays(sim, slot, cast);
   json rays = json::array();
-  const Space& space = sim.space();
-  const RingMount* ring = sim.MountsOf(space.HandleOf(slot)).Ring("proximity");
-  if (!ring) return rays;
-  const Pose& pose = space.pose(slot);
-  const Vec2 c = pose.position.head<2>();
-  const double z = pose.position.z() + ring->elevation, reach = ring->radius + ring->range;
-  std::vector<uint32_t> near;
-  space.Gather(c.x() - reach, c.y() - reach, c.x() + reach, c.y() + reach, near);
-  std::erase_if(near, [&](uint32_t o) {
-    const double bottom = space.pose(o).position.z();
-    return o == slot || !(space.flags(o) & kSolid) || z < bottom ||
-           z >= bottom + space.geometry(o).height();
-  });
-  const double yaw = YawOf(pose.orientation);
-  for (int i = 0; i < ring->count; ++i) {
-    const double a = yaw + ring->AngleOf(i);
-    const Vec2 dir(std::cos(a), std::sin(a));
-    const Vec2 origin = c + ring->radius * dir;
-    double best = kNoHit;
-    for (uint32_t o : near)
-      best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
-    const Vec2 end = origin + std::min(best, ring->range) * dir;
-    rays.push_back({origin.x(), origin.y(), z, end.x(), end.y(), best <= ring->range ? 1 : 0});
-  }
+  for (const ProximityRay& r : cast)
+    rays.push_back({r.from.x(), r.from.y(), r.from.z(), r.to.x(), r.to.y(), r.hit ? 1 : 0});
   return rays;
+}
+
+// A camera's field of view (FieldOfView, core/drawing.h) as segments
+// [x0, y0, z0, x1, y1, z1] (world frame), for the page's "fov" overlay;
+// null for a sensor without one.
+json FieldOfViewSegments(const Simulation& sim, const Sensor* sensor) {
+  const auto* camera = dynamic_cast<const FieldOfView*>(sensor);
+  if (!camera) return json();
+  DrawList drawn;
+  camera->DrawFieldOfView(sim, drawn);
+  json segments = json::array();
+  auto add = [&](const Vec3& a, const Vec3& b) {
+    segments.push_back({a.x(), a.y(), a.z(), b.x(), b.y(), b.z()});
+  };
+  const auto& points = drawn.line_points();
+  for (const DrawList::Line& line : drawn.lines()) {
+    for (uint32_t k = line.first + 1; k < line.first + line.count; ++k)
+      add(points[k - 1], points[k]);
+    if (line.closed && line.count > 2) add(points[line.first + line.count - 1], points[line.first]);
+  }
+  constexpr int kSides = 48;
+  for (const DrawList::Circle& c : drawn.circles()) {
+    auto rim = [&](int k) {
+      const double a = 2 * M_PI * k / kSides;
+      return Vec3(c.center + c.radius * Vec3(std::cos(a), std::sin(a), 0));
+    };
+    for (int k = 0; k < kSides; ++k) add(rim(k), rim(k + 1));
+  }
+  return segments;
 }
 
 // Everything the page shows of entity `slot`: where it is and, for a robot,
@@ -689,6 +697,8 @@ std::string InspectJson(const Simulation& sim, uint32_t slot, const RobotLog& lo
     json sensor = DescribeSensor(devices.sensors[i]);
     sensor["label"] = (*devices.sensor_labels)[i];
     if (sensor["kind"] == "proximity") sensor["rays"] = ProximityRays(sim, slot);
+    if (json fov = FieldOfViewSegments(sim, devices.sensors[i]); !fov.is_null())
+      sensor["fov"] = std::move(fov);
     sensors.push_back(std::move(sensor));
   }
   for (size_t i = 0; devices.actuator_labels && i < devices.actuator_labels->size(); ++i) {

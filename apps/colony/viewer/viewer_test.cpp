@@ -21,6 +21,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <sstream>
 #include <thread>
 
 #include "actuators/differential_steering/differential_steering.h"
@@ -851,6 +852,58 @@ TEST(Viewer, InspectShowsTheRobotsLastLogLinesAndItsProximityRays) {
 // Dragging while paused moves the entity through the simulation: the next
 // frame shows it there, stepping goes on from there, the status says the run
 // was moved; bad places and ids are refused and change nothing.
+// The cameras' fields of view, for the page's "fov" overlay, where the
+// cameras see: the eye-bot's pan-tilt camera a cone (60 degrees, 3 m: its rim
+// 3 m from the head, and four sides from the head), a foot-bot's
+// omnidirectional camera a circle of its range (2.5 m) around its axis.
+TEST(Viewer, InspectGivesTheCamerasFieldsOfView) {
+  ExperimentOptions options;
+  options.file = COLONY_SOURCE_DIR "/experiments/eyebot_guidance.xml";
+  options.threads = 1;
+  auto sim = Simulation::Load(options);
+  sim->Step();
+  Served served(*sim);
+  WebSocketClient client;
+  Connect(client, served.ws());
+  Next(client, "frame");
+  auto fov_of = [&](const std::string& id, const std::string& kind) {
+    client.Send(R"({"cmd":"inspect","id":")" + id + R"("})");
+    const json reply = json::parse(Next(client, "inspect")->payload);
+    for (const auto& sensor : reply["sensors"]) {
+      if (sensor["label"] == kind) return sensor.value("fov", json());
+    }
+    ADD_FAILURE() << id << " has no " << kind;
+    return json();
+  };
+  const json cone = fov_of("eye0", "eyebot_pan_tilt_camera");
+  ASSERT_TRUE(cone.is_array());
+  ASSERT_EQ(cone.size(), 32u + 4u);
+  const Eigen::Vector3d head(cone[32][0], cone[32][1], cone[32][2]);
+  const Vec3 eye = testing::PositionOf(*sim, "eye0");
+  EXPECT_LT((head - eye).norm(), 0.2) << "the head is on the eye-bot";
+  for (size_t k = 0; k < cone.size(); ++k) {
+    const Eigen::Vector3d end(cone[k][3], cone[k][4], cone[k][5]);
+    EXPECT_NEAR((end - head).norm(), 3.0, 1e-6) << k;
+  }
+  const json circle = fov_of("fb2", "omnidirectional_camera");
+  ASSERT_TRUE(circle.is_array());
+  ASSERT_EQ(circle.size(), 48u);
+  const Vec3 fb2 = testing::PositionOf(*sim, "fb2");
+  for (const auto& segment : circle) {
+    EXPECT_NEAR(std::hypot(segment[0].get<double>() - fb2.x(), segment[1].get<double>() - fb2.y()),
+                2.5, 1e-6);
+    EXPECT_GT(segment[2].get<double>(), fb2.z() + 0.1) << "at the camera's height";
+  }
+  // Sensors that see no region have none.
+  client.Send(R"({"cmd":"inspect","id":"fb2"})");
+  for (const auto& sensor : json::parse(Next(client, "inspect")->payload)["sensors"]) {
+    if (sensor["label"] != "omnidirectional_camera") {
+      EXPECT_FALSE(sensor.contains("fov")) << sensor;
+    }
+  }
+  client.Close();
+}
+
 TEST(Viewer, MoveWhilePausedPutsTheRobotThereAndTheRunGoesOn) {
   auto sim = LoadProbes();
   Served served(*sim);
@@ -1155,92 +1208,9 @@ TEST(Viewer, AddressesAreCheckedAndABusyPortIsNamed) {
 
 // The page in a real browser: headless Chromium loads it from the server,
 // draws the scene with WebGL (software) and writes what it drew into the
-// DOM; a screenshot is kept for docs/viewer.md.
-// The DOM headless Chromium ends with after loading `url`, once it holds
-// `marker`: the page's WebSocket traffic is real I/O, which Chromium's virtual
-// time does not wait for, so a slow server (a loaded machine, a sanitizer
-// build) can leave the page unfinished when the DOM is dumped; up to three
-// tries. Fails the test on a non-zero exit.
-std::string DumpDomWith(const std::string& chromium, const std::string& flags,
-                        const std::string& url, const std::string& dom, const std::string& log,
-                        const std::string& marker) {
-  std::string text;
-  for (int attempt = 0; attempt < 3; ++attempt) {
-    const std::string command =
-        chromium + flags + "--dump-dom '" + url + "' > " + dom + " 2>> " + log;
-    EXPECT_EQ(std::system(command.c_str()), 0) << command;
-    text = testing::ReadFile(dom);
-    if (text.find(marker) != std::string::npos) break;
-  }
-  return text;
-}
-
-TEST(Viewer, ChromiumDrawsTheRobots) {
-  const char* chromium = "/usr/bin/chromium";
-  if (!std::filesystem::exists(chromium))
-    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
-  auto sim = LoadDiffusion();
-  Served served(*sim);
-  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
-  std::filesystem::create_directories(dir);
-  const std::string flags =
-      " --headless=new --no-sandbox --disable-gpu --use-angle=swiftshader "
-      "--enable-unsafe-swiftshader --hide-scrollbars --virtual-time-budget=15000 "
-      "--window-size=1024,768 --user-data-dir=" +
-      dir + "/profile ";
-  const std::string dom = dir + "/dom.html";
-  std::filesystem::remove(dir + "/chromium.log");
-  const std::string text =
-      DumpDomWith(chromium, flags, served.url(), dom, dir + "/chromium.log", "data-robots-drawn=");
-  std::smatch match;
-  ASSERT_TRUE(std::regex_search(text, match, std::regex("data-robots-drawn=\"(\\d+)\"")))
-      << "the page did not say it drew; DOM in " << dom;
-  EXPECT_EQ(std::stoi(match[1]), kRobots);
-  const std::string shot = dir + "/viewer.png";
-  std::filesystem::remove(shot);
-  const std::string screenshot = std::string(chromium) + flags + "--screenshot=" + shot + " '" +
-                                 served.url() + "' 2>> " + dir + "/chromium.log";
-  ASSERT_EQ(std::system(screenshot.c_str()), 0) << screenshot;
-  EXPECT_TRUE(std::filesystem::exists(shot));
-}
-
-// A robot selected on the page (here by the address's ?select=) shows its
-// proximity readings in the side panel, as the inspect reply gave them.
-TEST(Viewer, ChromiumShowsTheSelectedRobotsReadings) {
-  const char* chromium = "/usr/bin/chromium";
-  if (!std::filesystem::exists(chromium))
-    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
-  auto sim = LoadProbes();
-  sim->Step();
-  Served served(*sim);
-  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
-  std::filesystem::create_directories(dir);
-  const std::string flags =
-      " --headless=new --no-sandbox --disable-gpu --use-angle=swiftshader "
-      "--enable-unsafe-swiftshader --hide-scrollbars --virtual-time-budget=15000 "
-      "--window-size=1024,768 --user-data-dir=" +
-      dir + "/profile_inspect ";
-  const std::string url = served.url() + "?select=a";
-  const std::string dom = dir + "/dom_inspect.html";
-  std::filesystem::remove(dir + "/chromium_inspect.log");
-  const std::string text = DumpDomWith(chromium, flags, url, dom, dir + "/chromium_inspect.log",
-                                       "proximity: 24 readings");
-  EXPECT_NE(text.find("data-inspected=\"a\""), std::string::npos) << "DOM in " << dom;
-  // The panel: the controller, the ring's 24 readings, the wheels and the values.
-  const size_t panel = text.find("id=\"inspect\"");
-  ASSERT_NE(panel, std::string::npos) << dom;
-  const std::string shown = text.substr(panel, text.find("</div>", panel) - panel);
-  for (const char* expected : {"controller viewer_probe", "proximity: 24 readings",
-                               "differential_steering", "left 0.010", "steps 1", "state odd"}) {
-    EXPECT_NE(shown.find(expected), std::string::npos) << expected << " not in: " << shown;
-  }
-  const std::string shot = dir + "/viewer_inspect.png";
-  std::filesystem::remove(shot);
-  const std::string screenshot = std::string(chromium) + flags + "--screenshot=" + shot + " '" +
-                                 url + "' 2>> " + dir + "/chromium_inspect.log";
-  ASSERT_EQ(std::system(screenshot.c_str()), 0) << screenshot;
-  EXPECT_TRUE(std::filesystem::exists(shot));
-}
+// DOM; screenshots are kept for docs/viewer.md. Chromium is driven through
+// its DevTools protocol, so a screenshot is taken once the page says it has
+// drawn (Chromium's --screenshot flag races with the page's WebSocket).
 
 // Standard base64 (what DevTools sends screenshots in) to bytes.
 std::string DecodeBase64(const std::string& text) {
@@ -1364,6 +1334,76 @@ class DevToolsBrowser {
   std::string session_;
 };
 
+// Evaluates `expression` in the page every 100 ms, for up to 30 s, until it
+// gives `expected`; the last value.
+json WaitFor(DevToolsBrowser& browser, const std::string& expression, const json& expected) {
+  json value;
+  for (int k = 0; k < 300 && value != expected; ++k) {
+    std::this_thread::sleep_for(100ms);
+    value = browser.Evaluate(expression);
+  }
+  return value;
+}
+
+// Writes what the page shows now to the PNG file `path`.
+void SaveScreenshot(DevToolsBrowser& browser, const std::string& path) {
+  const std::string png =
+      DecodeBase64(browser.Call("Page.captureScreenshot", {{"format", "png"}}).value("data", ""));
+  ASSERT_GT(png.size(), 1000u) << path;
+  std::ofstream(path, std::ios::binary) << png;
+}
+
+TEST(Viewer, ChromiumDrawsTheRobots) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!std::filesystem::exists(chromium))
+    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
+  std::filesystem::create_directories(dir);
+  DevToolsBrowser browser;
+  ASSERT_EQ(browser.Start(chromium, dir + "/profile"), "");
+  browser.Open(served.url());
+  EXPECT_EQ(WaitFor(browser, "document.body.dataset.robotsDrawn || ''", std::to_string(kRobots)),
+            std::to_string(kRobots))
+      << "the page did not say it drew the robots";
+  SaveScreenshot(browser, dir + "/viewer.png");
+}
+
+// A robot selected on the page (here by the address's ?select=) shows its
+// proximity readings in the side panel, as the inspect reply gave them.
+TEST(Viewer, ChromiumShowsTheSelectedRobotsReadings) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!std::filesystem::exists(chromium))
+    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
+  auto sim = LoadProbes();
+  sim->Step();
+  Served served(*sim);
+  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
+  std::filesystem::create_directories(dir);
+  DevToolsBrowser browser;
+  ASSERT_EQ(browser.Start(chromium, dir + "/profile_inspect"), "");
+  browser.Open(served.url() + "?select=a");
+  WaitFor(browser,
+          "document.body.dataset.inspected === 'a' && "
+          "document.getElementById('inspect').textContent.includes('proximity: 24 readings')",
+          true);
+  const json html = browser.Evaluate("document.documentElement.outerHTML");
+  const std::string text = html.is_string() ? html.get<std::string>() : "";
+  const std::string dom = dir + "/dom_inspect.html";
+  std::ofstream(dom) << text;
+  EXPECT_NE(text.find("data-inspected=\"a\""), std::string::npos) << "DOM in " << dom;
+  // The panel: the controller, the ring's 24 readings, the wheels and the values.
+  const size_t panel = text.find("id=\"inspect\"");
+  ASSERT_NE(panel, std::string::npos) << dom;
+  const std::string shown = text.substr(panel, text.find("</div>", panel) - panel);
+  for (const char* expected : {"controller viewer_probe", "proximity: 24 readings",
+                               "differential_steering", "left 0.010", "steps 1", "state odd"}) {
+    EXPECT_NE(shown.find(expected), std::string::npos) << expected << " not in: " << shown;
+  }
+  SaveScreenshot(browser, dir + "/viewer_inspect.png");
+}
+
 // Shift + drag on the page, with the mouse of a real browser, moves robot c
 // in the simulation: the server then has it where it was dropped.
 TEST(Viewer, ChromiumShiftDragMovesTheRobotInTheSimulation) {
@@ -1435,13 +1475,9 @@ TEST(Viewer, ChromiumShowsWhatTheLoopFunctionsDrawAndTheIdOverlay) {
   std::filesystem::create_directories(dir);
   DevToolsBrowser browser;
   ASSERT_EQ(browser.Start(chromium, dir + "/profile_drawing"), "");
-  browser.Open(served.url() + "?overlays=ids,rays&select=fb2");
-  // Drawn, with fb2's inspection in: its 24 rays.
-  json ready;
-  for (int k = 0; k < 300 && ready != true; ++k) {
-    std::this_thread::sleep_for(100ms);
-    ready = browser.Evaluate("document.body.dataset.overlayLines === '24'");
-  }
+  browser.Open(served.url() + "?overlays=ids,rays,fov&select=fb2");
+  // Drawn, with fb2's inspection in: its 24 rays and its camera's range (48 segments).
+  WaitFor(browser, "document.body.dataset.overlayLines === '72'", true);
   const json html = browser.Evaluate("document.documentElement.outerHTML");
   const std::string text = html.is_string() ? html.get<std::string>() : "";
   const std::string dom = dir + "/dom_drawing.html";
@@ -1455,16 +1491,12 @@ TEST(Viewer, ChromiumShowsWhatTheLoopFunctionsDrawAndTheIdOverlay) {
   EXPECT_GE(std::stoi(match[2]), 1) << "lines to the foot-bots within reach";
   EXPECT_TRUE(std::regex_search(text, std::regex("class=\"drawn-text\"[^>]*>reached \\d/5<")))
       << "DOM in " << dom;
-  // fb2 selected: its 24 proximity rays.
-  EXPECT_NE(text.find("data-overlay-lines=\"24\""), std::string::npos) << "DOM in " << dom;
+  // fb2 selected: its 24 proximity rays and its omnidirectional camera's range.
+  EXPECT_NE(text.find("data-overlay-lines=\"72\""), std::string::npos) << "DOM in " << dom;
   for (const char* id : {">fb0<", ">fb9<", ">eye0<"}) {
     EXPECT_NE(text.find(id), std::string::npos) << id << " not labelled; DOM in " << dom;
   }
-  const std::string shot = dir + "/viewer_drawing.png";
-  const std::string png =
-      DecodeBase64(browser.Call("Page.captureScreenshot", {{"format", "png"}}).value("data", ""));
-  ASSERT_GT(png.size(), 1000u);
-  std::ofstream(shot, std::ios::binary) << png;
+  SaveScreenshot(browser, dir + "/viewer_drawing.png");
 }
 
 // The trails overlay, on while the run plays, keeps each robot's positions
@@ -1729,6 +1761,84 @@ std::string ReplayError(const fs::path& folder) {
   return "";
 }
 
+// A run recorded with <output leds="true"> replays with the LED colours it
+// had: the aggregation example's robots turn from green (walking) to red
+// (staying in a spot). At a recorded tick where some are red and some
+// green, the replay's frame gives each robot the colour of its row, which
+// is the live run's at that tick; from CSV and from HDF5 alike.
+TEST(Viewer, ReplayOfARunRecordedWithLedsShowsTheirColours) {
+  std::map<std::string, fs::path> dirs;
+  for (const std::string format : {"csv", "hdf5"}) {
+    dirs[format] = testing::FreshTempDir("colony_view_leds", format);
+    const auto r = testing::RunCommand(
+        std::string(COLONY_BINARY_DIR "/bin/colony run ") + COLONY_SOURCE_DIR +
+        "/experiments/aggregation.xml --quiet --threads 1 --out " + dirs[format].string() +
+        " --set framework.experiment.length=60 --set output.trajectories_every=100"
+        " --set output.leds=true --set output.format=" +
+        format);
+    ASSERT_EQ(r.status, 0) << r.output;
+  }
+  // The CSV's colours per recorded tick: id -> (r, g, b).
+  const auto csv = sweep::ReadCsvFile((dirs["csv"] / "trajectories.csv").string());
+  const auto& header = csv.records.at(0);
+  auto at = [&](const char* name) {
+    return std::find(header.begin(), header.end(), name) - header.begin();
+  };
+  ASSERT_LT(at("led_b"), static_cast<long>(header.size()));
+  std::map<uint64_t, std::map<std::string, std::array<int, 3>>> colors;
+  for (size_t r = 1; r < csv.records.size(); ++r) {
+    const auto& row = csv.records[r];
+    colors[std::stoull(row[at("tick")])][row[at("id")]] = {
+        std::stoi(row[at("led_r")]), std::stoi(row[at("led_g")]), std::stoi(row[at("led_b")])};
+  }
+  // The first recorded tick where red and green robots are both there.
+  const std::array<int, 3> red = {255, 0, 0}, green = {0, 255, 0};
+  uint64_t shown = 0;
+  size_t steps = 0;
+  for (const auto& [tick, of] : colors) {
+    int reds = 0, greens = 0;
+    for (const auto& [id, c] : of) {
+      reds += c == red;
+      greens += c == green;
+    }
+    if (reds > 0 && greens > 0) {
+      shown = tick;
+      break;
+    }
+    ++steps;
+  }
+  ASSERT_GT(shown, 0u) << "no recorded tick with both staying (red) and walking robots";
+  ExperimentOptions options;
+  options.file = (dirs["csv"] / "experiment.xml").string();
+  auto live = Simulation::Load(options);
+  while (live->tick() < shown) live->Step();
+  for (const auto& [format, dir] : dirs) {
+    Replayed replay(dir);
+    ASSERT_FALSE(replay.ws().empty());
+    WebSocketClient client;
+    Connect(client, replay.ws());
+    const json scene = json::parse(Next(client, "scene")->payload);
+    ASSERT_TRUE(Next(client, "frame"));
+    for (size_t k = 0; k < steps; ++k) client.Send(R"({"cmd":"step"})");
+    std::optional<Frame> frame;
+    while (auto m = Next(client, "frame")) {
+      frame = Decode(m->payload);
+      if (frame->tick >= shown) break;
+    }
+    ASSERT_TRUE(frame);
+    ASSERT_EQ(frame->tick, shown) << format;
+    ASSERT_EQ(frame->records.size(), colors[shown].size());
+    for (size_t i = 0; i < frame->records.size(); ++i) {
+      const std::string id = scene["movers"][i]["id"];
+      const auto& r = frame->records[i];
+      EXPECT_EQ((std::array<int, 3>{r.r, r.g, r.b}), colors[shown][id]) << format << " " << id;
+      const Color c = live->space().leds(live->space().Find(id).index)[0];
+      EXPECT_EQ((std::array<int, 3>{c.r, c.g, c.b}), colors[shown][id]) << "live " << id;
+    }
+    client.Close();
+  }
+}
+
 // A copy of the CSV run folder with trajectories.csv replaced by `text`
 // (or none when `name` is empty), as file `name`.
 fs::path BadFolder(const std::string& tag, const std::string& name, const std::string& text) {
@@ -1768,6 +1878,21 @@ TEST(Viewer, ReplayRefusesWhatIsNotAWholeRecordOfTheRun) {
   ghost += row;
   EXPECT_TRUE(testing::Mentions(ReplayError(BadFolder("ghost", "trajectories.csv", ghost)),
                                 {"robot 'ghost'", "not in the run's experiment.xml"}));
+  // LED columns: some but not all three; a channel that is not 0 to 255.
+  auto with_columns = [&](const std::string& header, const std::string& cells) {
+    std::string out;
+    std::istringstream in(rows);
+    for (std::string line; std::getline(in, line);)
+      out += line + (out.empty() ? header : cells) + "\n";
+    return out;
+  };
+  EXPECT_TRUE(testing::Mentions(
+      ReplayError(BadFolder("led_r", "trajectories.csv", with_columns(",led_r", ",0"))),
+      {"led_r, led_g, led_b but not all three"}));
+  EXPECT_TRUE(
+      testing::Mentions(ReplayError(BadFolder("led300", "trajectories.csv",
+                                              with_columns(",led_r,led_g,led_b", ",0,300,0"))),
+                        {"led_g 300", "not a colour channel"}));
   // Damaged gzip and HDF5 files.
   EXPECT_TRUE(testing::Mentions(
       ReplayError(BadFolder("gz", "trajectories.csv.gz", std::string("\x1f\x8b\x08\0", 4))),

@@ -62,11 +62,11 @@ const highlight = new THREE.Mesh(new THREE.RingBufferGeometry(1.25, 1.45, 32),
 highlight.visible = false;
 world.add(highlight);
 
-// Overlays, switched on the page (or with ?overlays=ids,trails,rays,links in
-// the address): robot ids, trails, the selected robot's proximity rays and
-// range-and-bearing links. Drawn from what the page already has (frames,
+// Overlays, switched on the page (or with ?overlays=ids,trails,rays,links,fov
+// in the address): robot ids, trails, the selected robot's proximity rays,
+// range-and-bearing links and cameras' fields of view. Drawn from what the page already has (frames,
 // the selected robot's inspection), so they cost the simulator nothing.
-const overlays = { ids: false, trails: false, rays: false, links: false };
+const overlays = { ids: false, trails: false, rays: false, links: false, fov: false };
 for (const name of (new URLSearchParams(location.search).get('overlays') || '').split(',')) {
   if (name in overlays) overlays[name] = true;
 }
@@ -443,6 +443,9 @@ function rebuildOverlays() {
     for (const d of info.sensors) {
       if (overlays.rays && d.kind === 'proximity' && d.rays) {
         for (const r of d.rays) add([r[0], r[1], r[2]], [r[3], r[4], r[2]], r[5] ? [1, 0.16, 0.63] : [0.16, 0.78, 0.94]);
+      }
+      if (overlays.fov && d.fov) {
+        for (const s of d.fov) add([s[0], s[1], s[2]], [s[3], s[4], s[5]], [1, 0.82, 0.16]);
       }
       if (overlays.links && d.kind === 'range_and_bearing') {
         for (const p of d.packets) {
