@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/geometry2d.h"
 #include "core/simulation.h"
 #include "render/osmesa/font.h"
 

@@ -29,7 +29,6 @@
 #include "core/crash_report.h"
 #include "core/drawing.h"
 #include "core/error.h"
-#include "core/geometry2d.h"
 #include "core/log.h"
 #include "core/simulation.h"
 #include "sensors/battery/battery.h"
