@@ -344,7 +344,9 @@ class ReplaySource : public FrameSource {
     return command +
            ": this is a replay of recorded poses (colony view); the run's sensors, "
            "controllers and physics are not there to " +
-           (command == "move" ? "move robots in" : "inspect") +
+           (command == "move"   ? "move robots in"
+            : command == "rays" ? "cast rays"
+                                : "inspect") +
            ": serve the experiment live with colony run " + sim_.file() + " --serve PORT";
   }
   bool replay() const override { return true; }

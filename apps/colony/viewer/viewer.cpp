@@ -200,7 +200,8 @@ struct Command {
     kReset,
     kQuit,
     kInspect,
-    kMove
+    kMove,
+    kRays
   } kind = kOpen;
   WebSocketHub::ConnectionId connection = 0;
   double speed = 0;              // kSpeed: multiple of real time, 0 for "max"
@@ -221,7 +222,11 @@ constexpr const char* kCommandsAccepted =
     "{\"cmd\": \"play\" | \"pause\" | \"step\" | \"quit\"}, {\"cmd\": \"speed\", \"value\": a "
     "number from 0.1 to 1000 (times real time) or \"max\"}, {\"cmd\": \"reset\"[, \"seed\": a "
     "whole number from 0 to 9223372036854775807]}, {\"cmd\": \"inspect\", \"id\": an entity's "
-    "id} or {\"cmd\": \"move\", \"id\": an entity's id, \"x\": m, \"y\": m[, \"yaw\": rad]}";
+    "id}, {\"cmd\": \"move\", \"id\": an entity's id, \"x\": m, \"y\": m[, \"yaw\": rad]} or "
+    "{\"cmd\": \"rays\"}";
+
+// The most robots whose proximity rays are all given at once ("rays").
+constexpr size_t kMaxAllRaysRobots = 300;
 
 // The longest entity id a command may name.
 constexpr size_t kMaxIdBytes = 256;
@@ -263,7 +268,8 @@ std::string ParseCommand(const std::string& payload, bool binary, Command& comma
        {"speed", {Command::kSpeed, {"value"}}},
        {"reset", {Command::kReset, {"seed"}}},
        {"inspect", {Command::kInspect, {"id"}}},
-       {"move", {Command::kMove, {"id", "x", "y", "yaw"}}}};
+       {"move", {Command::kMove, {"id", "x", "y", "yaw"}}},
+       {"rays", {Command::kRays, {}}}};
   const auto known = kCommands.find(cmd);
   if (known == kCommands.end())
     return "unknown command '" + cmd + "'; expected " + kCommandsAccepted;
@@ -915,6 +921,9 @@ class Server {
         case Command::kMove:
           Move(c);
           break;
+        case Command::kRays:
+          Rays(c);
+          break;
       }
     }
     return true;
@@ -942,6 +951,33 @@ class Server {
       return SendError(c.connection, refused);
     if (const auto slot = Slot(c, "inspect"))
       SendTo(c.connection, InspectJson(sim_, *slot, robot_log_), false);
+  }
+
+  // Every robot's proximity rays, for the page's "all rays" overlay: up to
+  // kMaxAllRaysRobots robots (beyond, the page shows the selected robot's).
+  void Rays(const Command& c) {
+    if (const std::string refused = source_.Refuses("rays"); !refused.empty())
+      return SendError(c.connection, refused);
+    const Space& space = sim_.space();
+    std::vector<uint32_t> robots;
+    for (uint32_t i = 0; i < space.slots(); ++i) {
+      if (space.alive(i) && (space.flags(i) & kRobot)) robots.push_back(i);
+    }
+    if (robots.size() > kMaxAllRaysRobots) {
+      return SendError(c.connection, "rays: every robot's rays are given up to " +
+                                         std::to_string(kMaxAllRaysRobots) +
+                                         " robots; this run has " + std::to_string(robots.size()) +
+                                         " (select a robot for its rays)");
+    }
+    json of = json::object();
+    for (uint32_t i : robots) {
+      json rays = ProximityRays(sim_, i);
+      if (!rays.empty()) of[space.id(i)] = std::move(rays);
+    }
+    SendTo(c.connection,
+           json({{"type", "rays"}, {"tick", source_.tick()}, {"robots", std::move(of)}})
+               .dump(-1, ' ', false, json::error_handler_t::replace),
+           false);
   }
 
   // Moves a robot or a movable object (Simulation::MoveEntity) while

@@ -904,6 +904,44 @@ TEST(Viewer, InspectGivesTheCamerasFieldsOfView) {
   client.Close();
 }
 
+// Every robot's proximity rays at once ("rays", the page's "all rays"
+// overlay): 24 per robot, the same as each robot's inspection gives; up to
+// 300 robots, beyond which the command is refused with the reason.
+TEST(Viewer, RaysGivesEveryRobotsProximityRaysUpTo300Robots) {
+  auto sim = LoadDiffusion(300);
+  sim->Step();
+  Served served(*sim);
+  WebSocketClient client;
+  Connect(client, served.ws());
+  Next(client, "frame");
+  client.Send(R"({"cmd":"rays"})");
+  const json reply = json::parse(Next(client, "rays")->payload);
+  EXPECT_EQ(reply["tick"], 1);
+  ASSERT_EQ(reply["robots"].size(), 300u);
+  int hits = 0;
+  for (const auto& [id, rays] : reply["robots"].items()) {
+    ASSERT_EQ(rays.size(), 24u) << id;
+    for (const auto& r : rays) hits += r[5].get<int>();
+  }
+  EXPECT_GT(hits, 0) << "no robot's ray hits anything";
+  client.Send(R"({"cmd":"inspect","id":"mb7"})");
+  const json inspected = json::parse(Next(client, "inspect")->payload);
+  EXPECT_EQ(inspected["sensors"][0]["rays"], reply["robots"]["mb7"]);
+  client.Close();
+  served.Stop();
+
+  auto crowd = LoadDiffusion(301);
+  Served crowded(*crowd);
+  WebSocketClient other;
+  Connect(other, crowded.ws());
+  Next(other, "frame");
+  other.Send(R"({"cmd":"rays"})");
+  EXPECT_NE(json::parse(Next(other, "error")->payload)["message"].get<std::string>().find(
+                "up to 300 robots; this run has 301"),
+            std::string::npos);
+  other.Close();
+}
+
 TEST(Viewer, MoveWhilePausedPutsTheRobotThereAndTheRunGoesOn) {
   auto sim = LoadProbes();
   Served served(*sim);
@@ -1708,7 +1746,7 @@ void CheckReplayAtTick15(const fs::path& dir) {
     EXPECT_EQ(r.y, static_cast<float>(p.y())) << id;
   }
 
-  // Inspect and move are refused, saying why; the replay stays at tick 15.
+  // Inspect, move and rays are refused, saying why; the replay stays at tick 15.
   client.Send(R"({"cmd":"inspect","id":")" + s["movers"][0]["id"].get<std::string>() + R"("})");
   auto error = Next(client, "error");
   ASSERT_TRUE(error);
@@ -1721,6 +1759,13 @@ void CheckReplayAtTick15(const fs::path& dir) {
   ASSERT_TRUE(error);
   EXPECT_NE(json::parse(error->payload)["message"].get<std::string>().find("move"),
             std::string::npos);
+  client.Send(R"({"cmd":"rays"})");
+  error = Next(client, "error");
+  ASSERT_TRUE(error);
+  EXPECT_NE(
+      json::parse(error->payload)["message"].get<std::string>().find("rays: this is a replay"),
+      std::string::npos)
+      << error->payload;
 
   // Reset goes back to tick 0; play runs to the last recorded tick (30).
   client.Send(R"({"cmd":"reset"})");
