@@ -94,6 +94,31 @@ class DrawList {
   std::vector<Text> texts_;
 };
 
+// A sensor that sees a region of the world (a camera): it draws that region
+// as it is now (world frame), for the viewer's field-of-view overlay. The
+// simulated sensors implement it beside their control interface; viewers
+// find it with dynamic_cast from the Sensor.
+class FieldOfView {
+ public:
+  virtual void DrawFieldOfView(const Simulation& sim, DrawList& list) const = 0;
+
+ protected:
+  ~FieldOfView() = default;
+};
+
+// One ray of a proximity ring, for overlays (world frame, m): from the
+// ring to what it hits, or to the end of its range.
+struct ProximityRay {
+  Vec3 from, to;
+  bool hit;
+};
+// Replaces `rays` with the rays of the proximity ring of robot `slot` (none
+// without a ring), cast as the proximity sensor casts them (sensors/
+// proximity/proximity_sim.cpp): in the ring's plane, against every solid
+// entity (Space::Gather's) but the robot whose height spans that plane, over
+// the ring's nominal range. The viewer and the osmesa renderer draw these.
+void CastProximityRays(const Simulation& sim, uint32_t slot, std::vector<ProximityRay>& rays);
+
 // Clears `list` and fills it with what every loop functions of `sim` draws
 // now (LoopFunctions::Draw, in their order). Throws RuntimeFailure naming
 // the loop functions when one throws.

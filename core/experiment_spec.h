@@ -67,6 +67,9 @@ struct OutputConfig {
   enum class Format { kCsv, kHdf5 };
   Format trajectories_format = Format::kCsv;  // trajectories.csv or trajectories.h5
   bool trajectories_gzip = false;             // trajectories.csv.gz, or deflated HDF5 chunks
+  // led_r, led_g, led_b columns: the colour each robot shows (its first
+  // LED's, else its body colour), as the viewer's frames carry it.
+  bool trajectories_leds = false;
 };
 
 // The parsed experiment file (overrides applied) that the plugin elements of

@@ -185,7 +185,8 @@ void SpecReader::ReadOutput(const ConfigNode& root) {
   root.CheckAtMostOne("output");
   const ConfigNode node = root.Child("output");
   if (!node.valid()) return;
-  node.CheckAttributes({"metrics_every", "hash_every", "trajectories_every", "format", "compress"});
+  node.CheckAttributes(
+      {"metrics_every", "hash_every", "trajectories_every", "format", "compress", "leds"});
   node.CheckChildren({});
   OutputConfig& out = spec_.output;
   out.metrics_every = static_cast<uint64_t>(node.GetInt("metrics_every", 1, 0, INT64_MAX));
@@ -196,10 +197,12 @@ void SpecReader::ReadOutput(const ConfigNode& root) {
                                 ? OutputConfig::Format::kHdf5
                                 : OutputConfig::Format::kCsv;
   out.trajectories_gzip = node.GetChoice("compress", {"none", "gzip"}, "none") == "gzip";
-  if (out.trajectories_every == 0 && (node.Has("format") || node.Has("compress"))) {
+  out.trajectories_leds = node.GetBool("leds", false);
+  if (out.trajectories_every == 0 &&
+      (node.Has("format") || node.Has("compress") || node.Has("leds"))) {
     LogWarning(node.file() + ":" + std::to_string(node.line()) +
-               ": <output>: format and compress describe the trajectories table, which is "
-               "not written: trajectories_every is 0");
+               ": <output>: format, compress and leds describe the trajectories table, which "
+               "is not written: trajectories_every is 0");
   }
 }
 

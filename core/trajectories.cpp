@@ -17,8 +17,9 @@ namespace {
 
 // The table's own columns, before the robots' values.
 const std::vector<std::string>& OwnColumns() {
-  static const std::vector<std::string> columns = {"tick", "time", "id",  "type",  "x",
-                                                   "y",    "z",    "yaw", "pitch", "roll"};
+  static const std::vector<std::string> columns = {"tick",  "time",  "id",   "type",  "x",
+                                                   "y",     "z",     "yaw",  "pitch", "roll",
+                                                   "led_r", "led_g", "led_b"};
   return columns;
 }
 
@@ -198,6 +199,10 @@ void Trajectories::Open(const Simulation& sim, size_t longest_id) {
   if (three_d_) {
     for (const char* name : {"pitch", "roll"}) columns.push_back({name, ColumnType::kNumber});
   }
+  if (output_.trajectories_leds) {
+    for (const char* name : {"led_r", "led_g", "led_b"})
+      columns.push_back({name, ColumnType::kNumber});
+  }
   for (const auto& c : values_->columns)
     columns.push_back({c.name, c.label ? ColumnType::kText : ColumnType::kNumber});
   TableOptions options;
@@ -232,6 +237,11 @@ void Trajectories::WriteRow(const Simulation& sim, uint32_t slot) {
     table_.Number(std::asin(std::clamp(sin_pitch, -1.0, 1.0)))
         .Number(std::atan2(2.0 * (q.w() * q.x() + q.y() * q.z()),
                            1.0 - 2.0 * (q.x() * q.x() + q.y() * q.y())));
+  }
+  if (output_.trajectories_leds) {
+    const auto leds = space.leds(slot);
+    const Color c = leds.empty() ? space.color(slot) : leds[0];
+    table_.Number(c.r).Number(c.g).Number(c.b);
   }
   const Values& values = *values_;
   for (size_t c = 0; c < values.columns.size(); ++c) {

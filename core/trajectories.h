@@ -3,6 +3,8 @@
 // row per robot alive, in slot order:
 //   tick, time (s), id, type, x, y, z (m), yaw (rad)
 //   pitch, roll (rad): in runs whose physics engines are 3D
+//   led_r, led_g, led_b (0..255): with <output leds="true">, the colour it
+//   shows (its first LED's, else its body colour)
 //   then the robots' named values (core/control_interface.h, RobotValues):
 //   those its controller gives (Controller::RecordValues), then those the
 //   loop functions give (LoopFunctions::RecordRobotValues), in the order

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/geometry2d.h"
 #include "core/simulation.h"
 #include "render/osmesa/font.h"
 
@@ -42,31 +41,12 @@ void Trails::AddTo(const Space& space, SceneBatch& batch) const {
 }
 
 void AddProximityRays(const Simulation& sim, uint32_t slot, SceneBatch& batch) {
-  const Space& space = sim.space();
-  const RingMount* ring = sim.MountsOf(space.HandleOf(slot)).Ring("proximity");
-  if (!ring) return;
-  const Pose& pose = space.pose(slot);
-  const Vec2 c = pose.position.head<2>();
-  const double z = pose.position.z() + ring->elevation, reach = ring->radius + ring->range;
-  std::vector<uint32_t> near;
-  space.Gather(c.x() - reach, c.y() - reach, c.x() + reach, c.y() + reach, near);
-  std::erase_if(near, [&](uint32_t o) {
-    const double bottom = space.pose(o).position.z();
-    return o == slot || z < bottom || z >= bottom + space.geometry(o).height();
-  });
-  const double yaw = YawOf(pose.orientation);
+  static thread_local std::vector<ProximityRay> rays;
+  CastProximityRays(sim, slot, rays);
   const Color free{40, 200, 240, 150}, hit{255, 40, 160, 230};
-  for (int i = 0; i < ring->count; ++i) {
-    const double a = yaw + ring->AngleOf(i);
-    const Vec2 dir(std::cos(a), std::sin(a));
-    const Vec2 origin = c + ring->radius * dir;
-    double best = kNoHit;
-    for (uint32_t o : near)
-      best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
-    const double length = std::min(best, ring->range);
-    const Vec2 end = origin + length * dir;
-    const Color color = best <= ring->range ? hit : free;
-    AddLine(batch.lines, Vec3(origin.x(), origin.y(), z), Vec3(end.x(), end.y(), z), color, color);
+  for (const ProximityRay& r : rays) {
+    const Color color = r.hit ? hit : free;
+    AddLine(batch.lines, r.from, r.to, color, color);
   }
 }
 

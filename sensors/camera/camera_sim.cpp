@@ -5,6 +5,7 @@
 // one at a time (Mesa spreads each over its own threads); it is made on the
 // first update, so a camera that no controller declares costs nothing.
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "core/device.h"
+#include "core/drawing.h"
 #include "core/image_renderer.h"
 #include "core/simulation.h"
 #include "sensors/camera/camera.h"
@@ -22,9 +24,14 @@ namespace {
 constexpr double kNearClip = 0.01;           // m
 constexpr double kDefaultMountHeight = 0.1;  // m above the robot's base
 
-struct CameraInstance : CameraSensor, InstanceBase {
+class CameraSystem;
+
+struct CameraInstance : CameraSensor, InstanceBase, FieldOfView {
   using Interface = CameraSensor;
   Pose mount;  // in the robot's frame: x forwards along the optical axis, z up
+  const CameraSystem* system = nullptr;
+  // Its frustum, from the lens to the far rectangle at `range`.
+  void DrawFieldOfView(const Simulation& sim, DrawList& list) const override;
   void Resize(int w, int h) {
     width_ = w;
     height_ = h;
@@ -65,6 +72,7 @@ class CameraSystem : public SensorSystem {
     c.mount.position = position_.value_or(fallback);
     c.mount.orientation = orientation_;
     c.Resize(width_, height_);
+    c.system = this;
     return &c;
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<CameraSensor*>(s)); }
@@ -84,7 +92,7 @@ class CameraSystem : public SensorSystem {
     }
   }
 
- private:
+ public:
   CameraView ViewOf(const CameraInstance& c) const {
     // The frame it is mounted on: the robot's body, or a moving part where
     // the physics put it (checked at Attach; a robot migrates only into
@@ -102,6 +110,7 @@ class CameraSystem : public SensorSystem {
     return view;
   }
 
+ private:
   void Render(CameraInstance& c) {
     renderer_->Render(ViewOf(c), c.mutable_rgb());
     if (noise_.enabled()) {
@@ -153,6 +162,22 @@ COLONY_REGISTER_SENSOR(
          "rgb(): the image, 3 bytes per pixel (red, green, blue, 0..255), rows from the top",
          "At(x, y): the colony::Color of column x (from the left), row y (from the top)"}},
     CameraAttributes());
+
+void CameraInstance::DrawFieldOfView(const Simulation&, DrawList& list) const {
+  const CameraView view = system->ViewOf(*this);
+  // Camera frame: x along the optical axis, y left, z up; fov is horizontal.
+  const double half_width = view.far_clip * std::tan(DegToRad(view.fov) / 2);
+  const double half_height = half_width * view.height / view.width;
+  Vec3 corners[4];
+  const double sides[4][2] = {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}};
+  for (int k = 0; k < 4; ++k) {
+    corners[k] = view.position + view.orientation * Vec3(view.far_clip, sides[k][0] * half_width,
+                                                         sides[k][1] * half_height);
+  }
+  const Color color{255, 210, 40, 255};
+  list.AddPolyline(corners, color, /*closed=*/true);
+  for (const Vec3& corner : corners) list.AddSegment(view.position, corner, color);
+}
 
 }  // namespace
 }  // namespace colony

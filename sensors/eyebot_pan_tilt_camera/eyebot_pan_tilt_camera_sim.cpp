@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/device.h"
+#include "core/drawing.h"
 #include "core/simulation.h"
 #include "entities/eyebot/eyebot.h"
 #include "media/fast_math.h"
@@ -23,8 +24,13 @@ namespace {
 constexpr double kDefaultFov = 60.0;   // degrees, the whole cone
 constexpr double kDefaultRange = 5.0;  // m
 
-struct CameraInstance : EyebotPanTiltCamera, InstanceBase {
+class PanTiltCameraSystem;
+
+struct CameraInstance : EyebotPanTiltCamera, InstanceBase, FieldOfView {
   using Interface = EyebotPanTiltCamera;
+  const PanTiltCameraSystem* system = nullptr;
+  // Its cone: the rim at `range` from the head and four of its sides.
+  void DrawFieldOfView(const Simulation& sim, DrawList& list) const override;
   std::vector<Blob>& mutable_blobs() { return blobs_; }
   void SetHead(double pan, double tilt) {
     pan_ = pan;
@@ -61,9 +67,13 @@ class PanTiltCameraSystem : public SensorSystem {
     return {PanTiltState::kComponentName};
   }
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
-    return &instances_.Add(robot, rng);
+    CameraInstance& c = instances_.Add(robot, rng);
+    c.system = this;
+    return &c;
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<EyebotPanTiltCamera*>(s)); }
+  double range() const { return range_; }
+  double half_fov() const { return std::acos(cos_half_fov_); }
   size_t size() const override { return instances_.size(); }
 
   void Update(size_t begin, size_t end) override {
@@ -180,6 +190,24 @@ COLONY_REGISTER_SENSOR(
                      "the horizontal plane)",
                      "pan(), tilt(): the head's pan and tilt when the blobs were taken (rad)"}},
     CameraAttributes());
+
+void CameraInstance::DrawFieldOfView(const Simulation& sim, DrawList& list) const {
+  const Space& space = sim.space();
+  const Pose head = PanTiltFrame(space.pose(robot.index), *space.Get<PanTiltState>(robot.index));
+  const Vec3 axis = head.orientation * Vec3::UnitX(), u = head.orientation * Vec3::UnitY(),
+             v = head.orientation * Vec3::UnitZ();
+  const double half = system->half_fov(), range = system->range();
+  constexpr int kSides = 32;
+  Vec3 rim[kSides];
+  for (int k = 0; k < kSides; ++k) {
+    const double t = 2 * M_PI * k / kSides;
+    rim[k] = head.position +
+             range * (std::cos(half) * axis + std::sin(half) * (std::cos(t) * u + std::sin(t) * v));
+  }
+  const Color color{255, 210, 40, 255};
+  list.AddPolyline(rim, color, /*closed=*/true);
+  for (int k = 0; k < kSides; k += kSides / 4) list.AddSegment(head.position, rim[k], color);
+}
 
 }  // namespace
 }  // namespace colony

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/device.h"
+#include "core/drawing.h"
 #include "core/simulation.h"
 #include "media/fast_math.h"
 #include "media/led/led_medium.h"
@@ -22,9 +23,14 @@ constexpr double kDefaultRange = 1.5;        // m
 constexpr double kDefaultAperture = 70.0;    // degrees either side of the horizontal
 constexpr double kDefaultElevation = 0.288;  // m above the robot's base
 
-struct CameraInstance : OmnidirectionalCamera, InstanceBase {
+class CameraSystem;
+
+struct CameraInstance : OmnidirectionalCamera, InstanceBase, FieldOfView {
   using Interface = OmnidirectionalCamera;
   std::vector<Blob>& mutable_blobs() { return blobs_; }
+  const CameraSystem* system = nullptr;
+  // Its range: a circle around the robot's axis at the camera's height.
+  void DrawFieldOfView(const Simulation& sim, DrawList& list) const override;
 };
 
 // Per-thread working memory of a query (no allocation once warmed up).
@@ -51,9 +57,13 @@ class CameraSystem : public SensorSystem {
     }
   }
   Sensor* Attach(EntityHandle robot, const RandomStream& rng) override {
-    return &instances_.Add(robot, rng);
+    CameraInstance& c = instances_.Add(robot, rng);
+    c.system = this;
+    return &c;
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<OmnidirectionalCamera*>(s)); }
+  double range() const { return range_; }
+  double elevation() const { return elevation_; }
   size_t size() const override { return instances_.size(); }
 
   void Update(size_t begin, size_t end) override {
@@ -153,6 +163,12 @@ COLONY_REGISTER_SENSOR(
         {"blobs(): the blobs seen this tick, each: red, green, blue (0..255), distance (m, "
          "horizontal, from the camera's axis), bearing (rad, ccw from the front, (-pi, pi])"}},
     CameraAttributes(), {"colored_blob_omnidirectional_camera"});
+
+void CameraInstance::DrawFieldOfView(const Simulation& sim, DrawList& list) const {
+  const Pose& pose = sim.space().pose(robot.index);
+  const Vec3 camera = pose.position + pose.orientation * Vec3(0, 0, system->elevation());
+  list.AddCircle(camera, system->range(), Color{255, 210, 40, 255});
+}
 
 }  // namespace
 }  // namespace colony

@@ -6,6 +6,7 @@
 #include <hdf5.h>
 #include <zlib.h>
 
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -36,16 +37,29 @@ struct RecordedPose {
   uint64_t tick = 0;
   std::string id;
   double x = 0, y = 0, z = 0, yaw = 0, pitch = 0, roll = 0;
+  double led[3] = {0, 0, 0};  // the colour it showed (led_r, led_g, led_b)
 };
 
 // The table read into poses, in the file's order.
 struct RecordedTable {
   std::vector<RecordedPose> rows;
   bool three_d = false;  // pitch and roll columns
+  bool leds = false;     // led_r, led_g and led_b columns
 };
 
 [[noreturn]] void Bad(const std::string& file, const std::string& problem) {
   throw ConfigError(file + ": " + problem);
+}
+
+constexpr const char* kLedColumns[3] = {"led_r", "led_g", "led_b"};
+
+// Whether a table has the LED columns (all three, or none: else it is bad).
+bool HasLeds(const std::string& path, const std::array<bool, 3>& present) {
+  if (present[0] && present[1] && present[2]) return true;
+  if (present[0] || present[1] || present[2]) {
+    Bad(path, "has some of the columns led_r, led_g, led_b but not all three");
+  }
+  return false;
 }
 
 // --- CSV (trajectories.csv, trajectories.csv.gz) ----------------------------
@@ -102,8 +116,10 @@ RecordedTable ReadCsvTable(const std::string& path, bool gzip) {
   const int tick = column("tick", true), id = column("id", true), x = column("x", true),
             y = column("y", true), z = column("z", true), yaw = column("yaw", true),
             pitch = column("pitch", false), roll = column("roll", false);
+  const int led[3] = {column("led_r", false), column("led_g", false), column("led_b", false)};
   RecordedTable table;
   table.three_d = pitch >= 0 && roll >= 0;
+  table.leds = HasLeds(path, {led[0] >= 0, led[1] >= 0, led[2] >= 0});
   for (size_t r = 1; r < csv.records.size(); ++r) {
     const auto& record = csv.records[r];
     const size_t line = r + 1;
@@ -126,6 +142,8 @@ RecordedTable ReadCsvTable(const std::string& path, bool gzip) {
       pose.pitch = CsvNumber(path, line, "pitch", record[pitch]);
       pose.roll = CsvNumber(path, line, "roll", record[roll]);
     }
+    for (int k = 0; table.leds && k < 3; ++k)
+      pose.led[k] = CsvNumber(path, line, kLedColumns[k], record[led[k]]);
     table.rows.push_back(std::move(pose));
   }
   return table;
@@ -168,6 +186,7 @@ class QuietHdf5 {
 struct H5Numbers {
   int64_t tick;
   double x, y, z, yaw, pitch, roll;
+  double led[3];
 };
 
 RecordedTable ReadHdf5Table(const std::string& path) {
@@ -190,6 +209,9 @@ RecordedTable ReadHdf5Table(const std::string& path) {
   RecordedTable table;
   table.three_d =
       H5Tget_member_index(type.get(), "pitch") >= 0 && H5Tget_member_index(type.get(), "roll") >= 0;
+  table.leds = HasLeds(path, {H5Tget_member_index(type.get(), kLedColumns[0]) >= 0,
+                              H5Tget_member_index(type.get(), kLedColumns[1]) >= 0,
+                              H5Tget_member_index(type.get(), kLedColumns[2]) >= 0});
   const hssize_t count = H5Sget_simple_extent_npoints(space.get());
   if (count < 0) Bad(path, "cannot read the number of rows");
   const size_t n = static_cast<size_t>(count);
@@ -205,6 +227,10 @@ RecordedTable ReadHdf5Table(const std::string& path) {
   if (table.three_d) {
     H5Tinsert(memory.get(), "pitch", HOFFSET(H5Numbers, pitch), H5T_NATIVE_DOUBLE);
     H5Tinsert(memory.get(), "roll", HOFFSET(H5Numbers, roll), H5T_NATIVE_DOUBLE);
+  }
+  for (int k = 0; table.leds && k < 3; ++k) {
+    H5Tinsert(memory.get(), kLedColumns[k], HOFFSET(H5Numbers, led) + k * sizeof(double),
+              H5T_NATIVE_DOUBLE);
   }
   if (n > 0 &&
       H5Dread(dataset.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, numbers.data()) < 0) {
@@ -239,6 +265,7 @@ RecordedTable ReadHdf5Table(const std::string& path) {
       pose.pitch = v.pitch;
       pose.roll = v.roll;
     }
+    for (int k = 0; table.leds && k < 3; ++k) pose.led[k] = v.led[k];
     const char* cell = ids.data() + r * width;
     if (variable) {
       char* text = nullptr;
@@ -293,6 +320,7 @@ class ReplaySource : public FrameSource {
       pose.position = Vec3(p.x, p.y, p.z);
       pose.orientation = table.three_d ? FromEulerZYX(p.yaw, p.pitch, p.roll) : FromYaw(p.yaw);
       poses_.push_back({h.index, pose});
+      if (table.leds) colors_.push_back(RecordedColor(file, p));
     }
     Show(0);
   }
@@ -316,7 +344,9 @@ class ReplaySource : public FrameSource {
     return command +
            ": this is a replay of recorded poses (colony view); the run's sensors, "
            "controllers and physics are not there to " +
-           (command == "move" ? "move robots in" : "inspect") +
+           (command == "move"   ? "move robots in"
+            : command == "rays" ? "cast rays"
+                                : "inspect") +
            ": serve the experiment live with colony run " + sim_.file() + " --serve PORT";
   }
   bool replay() const override { return true; }
@@ -326,17 +356,38 @@ class ReplaySource : public FrameSource {
     uint64_t tick;
     size_t begin, end;  // its rows in poses_
   };
+  // The LED colour of row `p` (led_r, led_g, led_b); throws ConfigError
+  // naming `file` for a channel that is not a whole number from 0 to 255.
+  static Color RecordedColor(const std::string& file, const RecordedPose& p) {
+    uint8_t channel[3];
+    for (int k = 0; k < 3; ++k) {
+      if (!(p.led[k] >= 0 && p.led[k] <= 255 && p.led[k] == std::floor(p.led[k]))) {
+        Bad(file, "robot '" + p.id + "' (tick " + std::to_string(p.tick) + "): " + kLedColumns[k] +
+                      " " + std::to_string(p.led[k]) +
+                      " is not a colour channel (a whole number from 0 to 255)");
+      }
+      channel[k] = static_cast<uint8_t>(p.led[k]);
+    }
+    return Color{channel[0], channel[1], channel[2], 255};
+  }
+
+  // Puts record `record`'s poses (and LED colours, when recorded: every LED
+  // of the robot shows the colour recorded) into the space.
   void Show(size_t record) {
     shown_ = record;
     Space& space = sim_.space();
     for (size_t i = records_[record].begin; i < records_[record].end; ++i) {
       space.pose(poses_[i].first) = poses_[i].second;
+      if (!colors_.empty()) {
+        for (Color& led : space.leds(poses_[i].first)) led = colors_[i];
+      }
     }
   }
 
   Simulation& sim_;
   std::vector<Record> records_;
   std::vector<std::pair<uint32_t, Pose>> poses_;  // per row: the slot and its pose
+  std::vector<Color> colors_;                     // per row, when LEDs were recorded
   size_t shown_ = 0;
 };
 

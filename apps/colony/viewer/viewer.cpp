@@ -29,7 +29,6 @@
 #include "core/crash_report.h"
 #include "core/drawing.h"
 #include "core/error.h"
-#include "core/geometry2d.h"
 #include "core/log.h"
 #include "core/simulation.h"
 #include "sensors/battery/battery.h"
@@ -201,7 +200,8 @@ struct Command {
     kReset,
     kQuit,
     kInspect,
-    kMove
+    kMove,
+    kRays
   } kind = kOpen;
   WebSocketHub::ConnectionId connection = 0;
   double speed = 0;              // kSpeed: multiple of real time, 0 for "max"
@@ -222,7 +222,11 @@ constexpr const char* kCommandsAccepted =
     "{\"cmd\": \"play\" | \"pause\" | \"step\" | \"quit\"}, {\"cmd\": \"speed\", \"value\": a "
     "number from 0.1 to 1000 (times real time) or \"max\"}, {\"cmd\": \"reset\"[, \"seed\": a "
     "whole number from 0 to 9223372036854775807]}, {\"cmd\": \"inspect\", \"id\": an entity's "
-    "id} or {\"cmd\": \"move\", \"id\": an entity's id, \"x\": m, \"y\": m[, \"yaw\": rad]}";
+    "id}, {\"cmd\": \"move\", \"id\": an entity's id, \"x\": m, \"y\": m[, \"yaw\": rad]} or "
+    "{\"cmd\": \"rays\"}";
+
+// The most robots whose proximity rays are all given at once ("rays").
+constexpr size_t kMaxAllRaysRobots = 300;
 
 // The longest entity id a command may name.
 constexpr size_t kMaxIdBytes = 256;
@@ -243,6 +247,12 @@ std::string ReadNumber(const json& message, const std::string& cmd, const char* 
 std::string ParseCommand(const std::string& payload, bool binary, Command& command) {
   if (binary)
     return "binary messages are not commands; send JSON text: " + std::string(kCommandsAccepted);
+  // JSON text holds no NUL byte (in a string it is written \u0000); nlohmann's
+  // parser takes one as the end of its input and would ignore what follows.
+  if (const size_t nul = payload.find('\0'); nul != std::string::npos) {
+    return "a NUL byte at byte " + std::to_string(nul) + ": not JSON; expected " +
+           kCommandsAccepted;
+  }
   const json message = json::parse(payload, nullptr, /*allow_exceptions=*/false);
   if (message.is_discarded()) return std::string("not JSON; expected ") + kCommandsAccepted;
   if (!message.is_object() || !message.contains("cmd") || !message["cmd"].is_string()) {
@@ -258,7 +268,8 @@ std::string ParseCommand(const std::string& payload, bool binary, Command& comma
        {"speed", {Command::kSpeed, {"value"}}},
        {"reset", {Command::kReset, {"seed"}}},
        {"inspect", {Command::kInspect, {"id"}}},
-       {"move", {Command::kMove, {"id", "x", "y", "yaw"}}}};
+       {"move", {Command::kMove, {"id", "x", "y", "yaw"}}},
+       {"rays", {Command::kRays, {}}}};
   const auto known = kCommands.find(cmd);
   if (known == kCommands.end())
     return "unknown command '" + cmd + "'; expected " + kCommandsAccepted;
@@ -627,37 +638,45 @@ class RobotLog {
   std::map<std::string, std::deque<std::string>, std::less<>> lines_;
 };
 
-// The proximity ring's rays of the robot in `slot`, for the page's "rays"
-// overlay: [x0, y0, z, x1, y1, hit] each, from the ring to the nearest
-// solid entity within the ring's range (hit 1) or over the whole range
-// (hit 0); none without a proximity ring. Only for the inspected robot.
+// The proximity ring's rays of the robot in `slot` (CastProximityRays),
+// for the page's "rays" overlay: [x0, y0, z, x1, y1, hit] each; none without
+// a proximity ring.
 json ProximityRays(const Simulation& sim, uint32_t slot) {
+  std::vector<ProximityRay> cast;
+  CastProximityRays(sim, slot, cast);
   json rays = json::array();
-  const Space& space = sim.space();
-  const RingMount* ring = sim.MountsOf(space.HandleOf(slot)).Ring("proximity");
-  if (!ring) return rays;
-  const Pose& pose = space.pose(slot);
-  const Vec2 c = pose.position.head<2>();
-  const double z = pose.position.z() + ring->elevation, reach = ring->radius + ring->range;
-  std::vector<uint32_t> near;
-  space.Gather(c.x() - reach, c.y() - reach, c.x() + reach, c.y() + reach, near);
-  std::erase_if(near, [&](uint32_t o) {
-    const double bottom = space.pose(o).position.z();
-    return o == slot || !(space.flags(o) & kSolid) || z < bottom ||
-           z >= bottom + space.geometry(o).height();
-  });
-  const double yaw = YawOf(pose.orientation);
-  for (int i = 0; i < ring->count; ++i) {
-    const double a = yaw + ring->AngleOf(i);
-    const Vec2 dir(std::cos(a), std::sin(a));
-    const Vec2 origin = c + ring->radius * dir;
-    double best = kNoHit;
-    for (uint32_t o : near)
-      best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
-    const Vec2 end = origin + std::min(best, ring->range) * dir;
-    rays.push_back({origin.x(), origin.y(), z, end.x(), end.y(), best <= ring->range ? 1 : 0});
-  }
+  for (const ProximityRay& r : cast)
+    rays.push_back({r.from.x(), r.from.y(), r.from.z(), r.to.x(), r.to.y(), r.hit ? 1 : 0});
   return rays;
+}
+
+// A camera's field of view (FieldOfView, core/drawing.h) as segments
+// [x0, y0, z0, x1, y1, z1] (world frame), for the page's "fov" overlay;
+// null for a sensor without one.
+json FieldOfViewSegments(const Simulation& sim, const Sensor* sensor) {
+  const auto* camera = dynamic_cast<const FieldOfView*>(sensor);
+  if (!camera) return json();
+  DrawList drawn;
+  camera->DrawFieldOfView(sim, drawn);
+  json segments = json::array();
+  auto add = [&](const Vec3& a, const Vec3& b) {
+    segments.push_back({a.x(), a.y(), a.z(), b.x(), b.y(), b.z()});
+  };
+  const auto& points = drawn.line_points();
+  for (const DrawList::Line& line : drawn.lines()) {
+    for (uint32_t k = line.first + 1; k < line.first + line.count; ++k)
+      add(points[k - 1], points[k]);
+    if (line.closed && line.count > 2) add(points[line.first + line.count - 1], points[line.first]);
+  }
+  constexpr int kSides = 48;
+  for (const DrawList::Circle& c : drawn.circles()) {
+    auto rim = [&](int k) {
+      const double a = 2 * M_PI * k / kSides;
+      return Vec3(c.center + c.radius * Vec3(std::cos(a), std::sin(a), 0));
+    };
+    for (int k = 0; k < kSides; ++k) add(rim(k), rim(k + 1));
+  }
+  return segments;
 }
 
 // Everything the page shows of entity `slot`: where it is and, for a robot,
@@ -683,6 +702,8 @@ std::string InspectJson(const Simulation& sim, uint32_t slot, const RobotLog& lo
     json sensor = DescribeSensor(devices.sensors[i]);
     sensor["label"] = (*devices.sensor_labels)[i];
     if (sensor["kind"] == "proximity") sensor["rays"] = ProximityRays(sim, slot);
+    if (json fov = FieldOfViewSegments(sim, devices.sensors[i]); !fov.is_null())
+      sensor["fov"] = std::move(fov);
     sensors.push_back(std::move(sensor));
   }
   for (size_t i = 0; devices.actuator_labels && i < devices.actuator_labels->size(); ++i) {
@@ -900,6 +921,9 @@ class Server {
         case Command::kMove:
           Move(c);
           break;
+        case Command::kRays:
+          Rays(c);
+          break;
       }
     }
     return true;
@@ -927,6 +951,33 @@ class Server {
       return SendError(c.connection, refused);
     if (const auto slot = Slot(c, "inspect"))
       SendTo(c.connection, InspectJson(sim_, *slot, robot_log_), false);
+  }
+
+  // Every robot's proximity rays, for the page's "all rays" overlay: up to
+  // kMaxAllRaysRobots robots (beyond, the page shows the selected robot's).
+  void Rays(const Command& c) {
+    if (const std::string refused = source_.Refuses("rays"); !refused.empty())
+      return SendError(c.connection, refused);
+    const Space& space = sim_.space();
+    std::vector<uint32_t> robots;
+    for (uint32_t i = 0; i < space.slots(); ++i) {
+      if (space.alive(i) && (space.flags(i) & kRobot)) robots.push_back(i);
+    }
+    if (robots.size() > kMaxAllRaysRobots) {
+      return SendError(c.connection, "rays: every robot's rays are given up to " +
+                                         std::to_string(kMaxAllRaysRobots) +
+                                         " robots; this run has " + std::to_string(robots.size()) +
+                                         " (select a robot for its rays)");
+    }
+    json of = json::object();
+    for (uint32_t i : robots) {
+      json rays = ProximityRays(sim_, i);
+      if (!rays.empty()) of[space.id(i)] = std::move(rays);
+    }
+    SendTo(c.connection,
+           json({{"type", "rays"}, {"tick", source_.tick()}, {"robots", std::move(of)}})
+               .dump(-1, ' ', false, json::error_handler_t::replace),
+           false);
   }
 
   // Moves a robot or a movable object (Simulation::MoveEntity) while

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/time.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,6 +21,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <sstream>
 #include <thread>
 
 #include "actuators/differential_steering/differential_steering.h"
@@ -215,6 +217,124 @@ void Connect(WebSocketClient& client, const std::string& uri) {
   ASSERT_TRUE(client.Connect(uri, 5s, error)) << uri << ": " << error;
 }
 
+// A WebSocket client on a bare socket, for what a browser never does: stop
+// reading (a stalled page) or send text that is not UTF-8 (websocketpp's own
+// client refuses to).
+class RawWebSocket {
+ public:
+  RawWebSocket() = default;
+  RawWebSocket(const RawWebSocket&) = delete;
+  RawWebSocket& operator=(const RawWebSocket&) = delete;
+  ~RawWebSocket() {
+    if (fd_ >= 0) close(fd_);
+  }
+  // Connects to 127.0.0.1:`port`, with a receive buffer of about
+  // `receive_buffer` bytes when > 0 (the kernel's default otherwise), and
+  // completes the handshake; false when it cannot.
+  bool Connect(int port, int receive_buffer = 0) {
+    fd_ = socket(AF_INET, SOCK_STREAM, 0);
+    if (fd_ < 0) return false;
+    if (receive_buffer > 0)
+      setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof receive_buffer);
+    const timeval timeout{10, 0};
+    setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+    setsockopt(fd_, SOL_SOCKET, SO_SNDTIMEO, &timeout, sizeof timeout);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) return false;
+    const std::string request = "GET / HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) +
+                                "\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                                "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+                                "Sec-WebSocket-Version: 13\r\n\r\n";
+    if (!SendAll(request)) return false;
+    // The reply's head, byte by byte: what follows it is the server's first frames.
+    std::string head;
+    char c;
+    while (head.find("\r\n\r\n") == std::string::npos && recv(fd_, &c, 1, 0) == 1) head += c;
+    return head.rfind("HTTP/1.1 101", 0) == 0;
+  }
+  // Sends `payload` as one masked frame (opcode 1: text); false when the
+  // connection is gone (errno says why) or nothing went for 10 s.
+  bool Send(const std::string& payload, uint8_t opcode = 1) {
+    std::string frame(1, static_cast<char>(0x80 | opcode));
+    const uint64_t n = payload.size();
+    if (n < 126) {
+      frame += static_cast<char>(0x80 | n);
+    } else {
+      frame += static_cast<char>(0x80 | 127);
+      for (int shift = 56; shift >= 0; shift -= 8) frame += static_cast<char>((n >> shift) & 0xFF);
+    }
+    const char mask[4] = {0x37, 0x5a, 0x12, 0x6c};
+    frame.append(mask, 4);
+    for (size_t i = 0; i < payload.size(); ++i)
+      frame += static_cast<char>(payload[i] ^ mask[i % 4]);
+    return SendAll(frame);
+  }
+  // The next frame from the server: its opcode and payload; false when the
+  // connection ends or nothing comes for 10 s.
+  bool Receive(int& opcode, std::string& payload) {
+    unsigned char head[2];
+    if (!ReceiveAll(head, 2)) return false;
+    opcode = head[0] & 0x0F;
+    uint64_t n = head[1] & 0x7F;
+    if (n >= 126) {
+      unsigned char extended[8];
+      const int bytes = n == 126 ? 2 : 8;
+      if (!ReceiveAll(extended, bytes)) return false;
+      n = 0;
+      for (int i = 0; i < bytes; ++i) n = (n << 8) | extended[i];
+    }
+    payload.assign(n, '\0');
+    return ReceiveAll(payload.data(), n);
+  }
+  // Reads until the server's close frame: its status code and reason; 0 when
+  // the connection ends without one.
+  int CloseCode(std::string& reason) {
+    int opcode = 0;
+    std::string payload;
+    while (Receive(opcode, payload)) {
+      if (opcode != 8) continue;
+      if (payload.size() < 2) return 0;
+      reason = payload.substr(2);
+      return (static_cast<unsigned char>(payload[0]) << 8) | static_cast<unsigned char>(payload[1]);
+    }
+    return 0;
+  }
+
+ private:
+  bool SendAll(const std::string& data) {
+    for (size_t sent = 0; sent < data.size();) {
+      const ssize_t k = ::send(fd_, data.data() + sent, data.size() - sent, MSG_NOSIGNAL);
+      if (k <= 0) return false;
+      sent += static_cast<size_t>(k);
+    }
+    return true;
+  }
+  bool ReceiveAll(void* out, size_t n) {
+    char* p = static_cast<char*>(out);
+    for (size_t got = 0; got < n;) {
+      const ssize_t k = recv(fd_, p + got, n - got, 0);
+      if (k <= 0) return false;
+      got += static_cast<size_t>(k);
+    }
+    return true;
+  }
+
+  int fd_ = -1;
+};
+
+// This process's resident memory (VmRSS, bytes).
+size_t ResidentBytes() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stoull(line.substr(6)) * 1024;
+  }
+  return 0;
+}
+
 // Turns on the spot (wheels 0.01 and 0.02 m/s... then reversed each tick)
 // and gives its step count and a state label.
 class ViewerProbe : public Controller {
@@ -364,8 +484,26 @@ TEST(Viewer, BadMessagesGetAnErrorReplyAndChangeNothing) {
   WebSocketClient client;
   Connect(client, served.ws());
   Next(client, "frame");
-  const std::pair<const char*, const char*> bad[] = {
+  using namespace std::string_literals;
+  const std::pair<std::string, const char*> bad[] = {
       {"garbage", "not JSON"},
+      {"", "not JSON"},
+      {" \t\r\n", "not JSON"},
+      {R"({"cmd":"play"} {"cmd":"step"})", "not JSON"},
+      // A NUL ends the parser's input: what follows a command must not be ignored.
+      {"{\"cmd\":\"play\"}\0garbage"s, "a NUL byte"},
+      {"{\"cmd\":\"play\"}\0"s, "a NUL byte"},
+      {R"({"cmd":"\ud800"})", "not JSON"},  // half a UTF-16 surrogate pair
+      {R"({"cmd":"pl\u00e4y"})", "unknown command 'pl\xc3\xa4y'"},
+      {"{\"cmd\":\"\xf0\x9f\x90\x9c\"}", "unknown command '\xf0\x9f\x90\x9c'"},
+      {std::string(3000, '['), "not JSON"},
+      {std::string(2000, '[') + std::string(2000, ']'), "expected a JSON object"},
+      {R"({"cmd":"speed","value":1e999})", "not JSON"},
+      {R"({"cmd":"play","cmd":"fly"})", "unknown command 'fly'"},
+      {R"({"cmd":"reset","seed":1.5})", "reset seed 1.5 is not accepted"},
+      {R"({"cmd":"move","id":"mb3","x":"1","y":0})", "move x \"1\" is not accepted"},
+      {R"({"cmd":"inspect","id":"\u0000"})", "there is no entity"},
+      {R"({"cmd":"inspect","id":["mb3"]})", "inspect id [\"mb3\"] is not accepted"},
       {"[1,2,3]", "expected a JSON object with a string \"cmd\""},
       {R"({"cmd":"fly"})", "unknown command 'fly'"},
       {R"({"cmd":42})", "expected a JSON object with a string \"cmd\""},
@@ -387,6 +525,25 @@ TEST(Viewer, BadMessagesGetAnErrorReplyAndChangeNothing) {
   auto reply = Next(client, "error");
   ASSERT_TRUE(reply);
   EXPECT_NE(reply->payload.find("binary messages are not commands"), std::string::npos);
+  // Text that is not UTF-8 (sent from a bare socket: websocketpp's client
+  // will not) fails that connection with status 1007 and a reason, as
+  // WebSocket requires (RFC 6455, 8.1); before it, that client's garbage got
+  // the usual error reply.
+  for (const std::string& not_utf8 : {"{\"cmd\":\"\xff\xfe\"}"s, "{\"cmd\":\"pl\xc3\"}"s,
+                                      "{\"cmd\":\"\xc0\xaf\"}"s, "{\"cmd\":\"\xed\xa0\x80\"}"s}) {
+    RawWebSocket raw;
+    ASSERT_TRUE(raw.Connect(served.port()));
+    ASSERT_TRUE(raw.Send(R"({"cmd":"fly"})"));
+    int opcode = 0;
+    std::string payload;
+    while (raw.Receive(opcode, payload) && payload.find("\"error\"") == std::string::npos) {
+    }
+    EXPECT_NE(payload.find("unknown command 'fly'"), std::string::npos) << payload;
+    ASSERT_TRUE(raw.Send(not_utf8));
+    std::string reason;
+    EXPECT_EQ(raw.CloseCode(reason), 1007) << not_utf8;
+    EXPECT_FALSE(reason.empty());
+  }
   // An oversized message closes that connection ("message too big"); the
   // run goes on serving others.
   client.Send("{\"cmd\":\"" + std::string(10000, 'x') + "\"}");
@@ -400,7 +557,103 @@ TEST(Viewer, BadMessagesGetAnErrorReplyAndChangeNothing) {
   EXPECT_EQ(Decode(Next(other, "frame")->payload).tick, 1u);
   other.Close();
   served.Stop();
-  EXPECT_EQ(sim->tick(), 1u);  // the bad messages stepped nothing
+  // The bad messages changed nothing: the run is a plain run stepped once.
+  EXPECT_EQ(sim->tick(), 1u);
+  auto plain = LoadDiffusion();
+  plain->Step();
+  EXPECT_EQ(sim->StateHash(), plain->StateHash());
+}
+
+// A page that stops reading never holds the run back: a bare socket with a
+// tiny receive buffer completes the handshake and reads nothing more while
+// the run plays as fast as it can, sending a frame per tick. Another page
+// keeps getting frames of ever later ticks, each second; the server drops
+// the stalled page's frames (and says so when it ends) instead of queueing
+// them, so the process's memory stays well under what it sent meanwhile.
+TEST(Viewer, AStalledPageNeitherSlowsTheRunNorFillsTheMemory) {
+  ExperimentOptions experiment;
+  experiment.file = COLONY_SOURCE_DIR "/experiments/benchmarks/diffusion_10000.xml";
+  experiment.overrides = {"framework.experiment.length=100000"};
+  experiment.threads = 1;
+  auto sim = Simulation::Load(experiment);  // 10,000 robots: 200 KB frames
+  ServeOptions options;
+  options.start_playing = true;
+  options.speed = 0;                    // as fast as possible
+  options.updates_per_second = 100000;  // a frame after every tick
+  const std::string log = COLONY_BINARY_DIR "/tests/viewer_stalled.log";
+  std::filesystem::create_directories(COLONY_BINARY_DIR "/tests");
+  OpenLogFile(log);
+  Served served(*sim, options);
+  RawWebSocket stalled;
+  ASSERT_TRUE(stalled.Connect(served.port(), 2048));
+  WebSocketClient client;
+  Connect(client, served.ws());
+  // Reads what comes for `seconds`: the last frame's tick and the bytes of frames received.
+  uint64_t tick = 0, bytes = 0;
+  auto read_for = [&](std::chrono::milliseconds seconds) {
+    const auto until = std::chrono::steady_clock::now() + seconds;
+    while (std::chrono::steady_clock::now() < until) {
+      const auto m = client.Receive(100ms);
+      if (!m || !m->binary) continue;
+      bytes += m->payload.size();
+      std::memcpy(&tick, m->payload.data() + 8, 8);
+    }
+  };
+  read_for(1500ms);  // the stalled socket's buffers fill up
+  const size_t memory_before = ResidentBytes();
+  const uint64_t bytes_before = bytes;
+  // At least 4 s, and until 96 MB of frames went to the reading page (the
+  // stalled one would hold as much if they were queued for it).
+  constexpr uint64_t kEnough = 96u << 20;
+  std::vector<uint64_t> ticks = {tick};
+  while (ticks.size() < 5 || (bytes - bytes_before < kEnough && ticks.size() < 31)) {
+    read_for(1000ms);
+    ticks.push_back(tick);
+  }
+  const size_t memory_after = ResidentBytes();
+  const uint64_t sent = bytes - bytes_before;
+  client.Close();
+  EXPECT_EQ(served.Stop(), 0);
+  CloseLogFile();
+  for (size_t k = 1; k < ticks.size(); ++k)
+    EXPECT_GT(ticks[k], ticks[k - 1]) << "the run did not advance in second " << k;
+  EXPECT_GE(sent, kEnough) << "too few frames in " << ticks.size() - 1 << " s to tell";
+  // The server may hold 8 MB queued for the stalled page, a write in flight
+  // and the kernel's buffers. (AddressSanitizer keeps freed memory aside: no
+  // bound on the process's memory holds there.)
+#if !defined(__SANITIZE_ADDRESS__)
+  EXPECT_LT(memory_after, memory_before + (32u << 20)) << "after " << sent << " bytes of frames";
+#endif
+  std::smatch dropped;
+  const std::string text = testing::ReadFile(log);
+  ASSERT_TRUE(std::regex_search(text, dropped, std::regex("(\\d+) not sent to stalled"))) << text;
+  EXPECT_GT(std::stoull(dropped[1]), 100u);
+}
+
+// A page that reads nothing but keeps asking (each speed command is answered
+// with a status to every page, which is never dropped) is cut off once 16 MB
+// of answers wait for it, instead of holding them without bound; the run
+// goes on serving others.
+TEST(Viewer, APageThatAsksButNeverReadsIsCutOff) {
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  RawWebSocket stalled;
+  ASSERT_TRUE(stalled.Connect(served.port(), 2048));
+  const std::string ask = R"({"cmd":"speed","value":"max"})";
+  const auto deadline = std::chrono::steady_clock::now() + 60s;
+  int sent = 0;
+  while (std::chrono::steady_clock::now() < deadline && stalled.Send(ask)) ++sent;
+  const int error = errno;
+  EXPECT_TRUE(error == EPIPE || error == ECONNRESET)
+      << "still connected after " << sent << " commands (" << std::strerror(error) << ")";
+  WebSocketClient other;
+  Connect(other, served.ws());
+  Next(other, "frame");
+  other.Send(R"({"cmd":"step"})");
+  EXPECT_EQ(Decode(Next(other, "frame")->payload).tick, 1u);
+  other.Close();
+  served.Stop();
+  EXPECT_EQ(sim->tick(), 1u);
 }
 
 // Commands out of place (a move while playing, a step's count, a reset
@@ -599,6 +852,96 @@ TEST(Viewer, InspectShowsTheRobotsLastLogLinesAndItsProximityRays) {
 // Dragging while paused moves the entity through the simulation: the next
 // frame shows it there, stepping goes on from there, the status says the run
 // was moved; bad places and ids are refused and change nothing.
+// The cameras' fields of view, for the page's "fov" overlay, where the
+// cameras see: the eye-bot's pan-tilt camera a cone (60 degrees, 3 m: its rim
+// 3 m from the head, and four sides from the head), a foot-bot's
+// omnidirectional camera a circle of its range (2.5 m) around its axis.
+TEST(Viewer, InspectGivesTheCamerasFieldsOfView) {
+  ExperimentOptions options;
+  options.file = COLONY_SOURCE_DIR "/experiments/eyebot_guidance.xml";
+  options.threads = 1;
+  auto sim = Simulation::Load(options);
+  sim->Step();
+  Served served(*sim);
+  WebSocketClient client;
+  Connect(client, served.ws());
+  Next(client, "frame");
+  auto fov_of = [&](const std::string& id, const std::string& kind) {
+    client.Send(R"({"cmd":"inspect","id":")" + id + R"("})");
+    const json reply = json::parse(Next(client, "inspect")->payload);
+    for (const auto& sensor : reply["sensors"]) {
+      if (sensor["label"] == kind) return sensor.value("fov", json());
+    }
+    ADD_FAILURE() << id << " has no " << kind;
+    return json();
+  };
+  const json cone = fov_of("eye0", "eyebot_pan_tilt_camera");
+  ASSERT_TRUE(cone.is_array());
+  ASSERT_EQ(cone.size(), 32u + 4u);
+  const Eigen::Vector3d head(cone[32][0], cone[32][1], cone[32][2]);
+  const Vec3 eye = testing::PositionOf(*sim, "eye0");
+  EXPECT_LT((head - eye).norm(), 0.2) << "the head is on the eye-bot";
+  for (size_t k = 0; k < cone.size(); ++k) {
+    const Eigen::Vector3d end(cone[k][3], cone[k][4], cone[k][5]);
+    EXPECT_NEAR((end - head).norm(), 3.0, 1e-6) << k;
+  }
+  const json circle = fov_of("fb2", "omnidirectional_camera");
+  ASSERT_TRUE(circle.is_array());
+  ASSERT_EQ(circle.size(), 48u);
+  const Vec3 fb2 = testing::PositionOf(*sim, "fb2");
+  for (const auto& segment : circle) {
+    EXPECT_NEAR(std::hypot(segment[0].get<double>() - fb2.x(), segment[1].get<double>() - fb2.y()),
+                2.5, 1e-6);
+    EXPECT_GT(segment[2].get<double>(), fb2.z() + 0.1) << "at the camera's height";
+  }
+  // Sensors that see no region have none.
+  client.Send(R"({"cmd":"inspect","id":"fb2"})");
+  for (const auto& sensor : json::parse(Next(client, "inspect")->payload)["sensors"]) {
+    if (sensor["label"] != "omnidirectional_camera") {
+      EXPECT_FALSE(sensor.contains("fov")) << sensor;
+    }
+  }
+  client.Close();
+}
+
+// Every robot's proximity rays at once ("rays", the page's "all rays"
+// overlay): 24 per robot, the same as each robot's inspection gives; up to
+// 300 robots, beyond which the command is refused with the reason.
+TEST(Viewer, RaysGivesEveryRobotsProximityRaysUpTo300Robots) {
+  auto sim = LoadDiffusion(300);
+  sim->Step();
+  Served served(*sim);
+  WebSocketClient client;
+  Connect(client, served.ws());
+  Next(client, "frame");
+  client.Send(R"({"cmd":"rays"})");
+  const json reply = json::parse(Next(client, "rays")->payload);
+  EXPECT_EQ(reply["tick"], 1);
+  ASSERT_EQ(reply["robots"].size(), 300u);
+  int hits = 0;
+  for (const auto& [id, rays] : reply["robots"].items()) {
+    ASSERT_EQ(rays.size(), 24u) << id;
+    for (const auto& r : rays) hits += r[5].get<int>();
+  }
+  EXPECT_GT(hits, 0) << "no robot's ray hits anything";
+  client.Send(R"({"cmd":"inspect","id":"mb7"})");
+  const json inspected = json::parse(Next(client, "inspect")->payload);
+  EXPECT_EQ(inspected["sensors"][0]["rays"], reply["robots"]["mb7"]);
+  client.Close();
+  served.Stop();
+
+  auto crowd = LoadDiffusion(301);
+  Served crowded(*crowd);
+  WebSocketClient other;
+  Connect(other, crowded.ws());
+  Next(other, "frame");
+  other.Send(R"({"cmd":"rays"})");
+  EXPECT_NE(json::parse(Next(other, "error")->payload)["message"].get<std::string>().find(
+                "up to 300 robots; this run has 301"),
+            std::string::npos);
+  other.Close();
+}
+
 TEST(Viewer, MoveWhilePausedPutsTheRobotThereAndTheRunGoesOn) {
   auto sim = LoadProbes();
   Served served(*sim);
@@ -903,92 +1246,9 @@ TEST(Viewer, AddressesAreCheckedAndABusyPortIsNamed) {
 
 // The page in a real browser: headless Chromium loads it from the server,
 // draws the scene with WebGL (software) and writes what it drew into the
-// DOM; a screenshot is kept for docs/viewer.md.
-// The DOM headless Chromium ends with after loading `url`, once it holds
-// `marker`: the page's WebSocket traffic is real I/O, which Chromium's virtual
-// time does not wait for, so a slow server (a loaded machine, a sanitizer
-// build) can leave the page unfinished when the DOM is dumped; up to three
-// tries. Fails the test on a non-zero exit.
-std::string DumpDomWith(const std::string& chromium, const std::string& flags,
-                        const std::string& url, const std::string& dom, const std::string& log,
-                        const std::string& marker) {
-  std::string text;
-  for (int attempt = 0; attempt < 3; ++attempt) {
-    const std::string command =
-        chromium + flags + "--dump-dom '" + url + "' > " + dom + " 2>> " + log;
-    EXPECT_EQ(std::system(command.c_str()), 0) << command;
-    text = testing::ReadFile(dom);
-    if (text.find(marker) != std::string::npos) break;
-  }
-  return text;
-}
-
-TEST(Viewer, ChromiumDrawsTheRobots) {
-  const char* chromium = "/usr/bin/chromium";
-  if (!std::filesystem::exists(chromium))
-    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
-  auto sim = LoadDiffusion();
-  Served served(*sim);
-  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
-  std::filesystem::create_directories(dir);
-  const std::string flags =
-      " --headless=new --no-sandbox --disable-gpu --use-angle=swiftshader "
-      "--enable-unsafe-swiftshader --hide-scrollbars --virtual-time-budget=15000 "
-      "--window-size=1024,768 --user-data-dir=" +
-      dir + "/profile ";
-  const std::string dom = dir + "/dom.html";
-  std::filesystem::remove(dir + "/chromium.log");
-  const std::string text =
-      DumpDomWith(chromium, flags, served.url(), dom, dir + "/chromium.log", "data-robots-drawn=");
-  std::smatch match;
-  ASSERT_TRUE(std::regex_search(text, match, std::regex("data-robots-drawn=\"(\\d+)\"")))
-      << "the page did not say it drew; DOM in " << dom;
-  EXPECT_EQ(std::stoi(match[1]), kRobots);
-  const std::string shot = dir + "/viewer.png";
-  std::filesystem::remove(shot);
-  const std::string screenshot = std::string(chromium) + flags + "--screenshot=" + shot + " '" +
-                                 served.url() + "' 2>> " + dir + "/chromium.log";
-  ASSERT_EQ(std::system(screenshot.c_str()), 0) << screenshot;
-  EXPECT_TRUE(std::filesystem::exists(shot));
-}
-
-// A robot selected on the page (here by the address's ?select=) shows its
-// proximity readings in the side panel, as the inspect reply gave them.
-TEST(Viewer, ChromiumShowsTheSelectedRobotsReadings) {
-  const char* chromium = "/usr/bin/chromium";
-  if (!std::filesystem::exists(chromium))
-    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
-  auto sim = LoadProbes();
-  sim->Step();
-  Served served(*sim);
-  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
-  std::filesystem::create_directories(dir);
-  const std::string flags =
-      " --headless=new --no-sandbox --disable-gpu --use-angle=swiftshader "
-      "--enable-unsafe-swiftshader --hide-scrollbars --virtual-time-budget=15000 "
-      "--window-size=1024,768 --user-data-dir=" +
-      dir + "/profile_inspect ";
-  const std::string url = served.url() + "?select=a";
-  const std::string dom = dir + "/dom_inspect.html";
-  std::filesystem::remove(dir + "/chromium_inspect.log");
-  const std::string text = DumpDomWith(chromium, flags, url, dom, dir + "/chromium_inspect.log",
-                                       "proximity: 24 readings");
-  EXPECT_NE(text.find("data-inspected=\"a\""), std::string::npos) << "DOM in " << dom;
-  // The panel: the controller, the ring's 24 readings, the wheels and the values.
-  const size_t panel = text.find("id=\"inspect\"");
-  ASSERT_NE(panel, std::string::npos) << dom;
-  const std::string shown = text.substr(panel, text.find("</div>", panel) - panel);
-  for (const char* expected : {"controller viewer_probe", "proximity: 24 readings",
-                               "differential_steering", "left 0.010", "steps 1", "state odd"}) {
-    EXPECT_NE(shown.find(expected), std::string::npos) << expected << " not in: " << shown;
-  }
-  const std::string shot = dir + "/viewer_inspect.png";
-  std::filesystem::remove(shot);
-  const std::string screenshot = std::string(chromium) + flags + "--screenshot=" + shot + " '" +
-                                 url + "' 2>> " + dir + "/chromium_inspect.log";
-  ASSERT_EQ(std::system(screenshot.c_str()), 0) << screenshot;
-  EXPECT_TRUE(std::filesystem::exists(shot));
-}
+// DOM; screenshots are kept for docs/viewer.md. Chromium is driven through
+// its DevTools protocol, so a screenshot is taken once the page says it has
+// drawn (Chromium's --screenshot flag races with the page's WebSocket).
 
 // Standard base64 (what DevTools sends screenshots in) to bytes.
 std::string DecodeBase64(const std::string& text) {
@@ -1112,6 +1372,76 @@ class DevToolsBrowser {
   std::string session_;
 };
 
+// Evaluates `expression` in the page every 100 ms, for up to 30 s, until it
+// gives `expected`; the last value.
+json WaitFor(DevToolsBrowser& browser, const std::string& expression, const json& expected) {
+  json value;
+  for (int k = 0; k < 300 && value != expected; ++k) {
+    std::this_thread::sleep_for(100ms);
+    value = browser.Evaluate(expression);
+  }
+  return value;
+}
+
+// Writes what the page shows now to the PNG file `path`.
+void SaveScreenshot(DevToolsBrowser& browser, const std::string& path) {
+  const std::string png =
+      DecodeBase64(browser.Call("Page.captureScreenshot", {{"format", "png"}}).value("data", ""));
+  ASSERT_GT(png.size(), 1000u) << path;
+  std::ofstream(path, std::ios::binary) << png;
+}
+
+TEST(Viewer, ChromiumDrawsTheRobots) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!std::filesystem::exists(chromium))
+    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
+  auto sim = LoadDiffusion();
+  Served served(*sim);
+  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
+  std::filesystem::create_directories(dir);
+  DevToolsBrowser browser;
+  ASSERT_EQ(browser.Start(chromium, dir + "/profile"), "");
+  browser.Open(served.url());
+  EXPECT_EQ(WaitFor(browser, "document.body.dataset.robotsDrawn || ''", std::to_string(kRobots)),
+            std::to_string(kRobots))
+      << "the page did not say it drew the robots";
+  SaveScreenshot(browser, dir + "/viewer.png");
+}
+
+// A robot selected on the page (here by the address's ?select=) shows its
+// proximity readings in the side panel, as the inspect reply gave them.
+TEST(Viewer, ChromiumShowsTheSelectedRobotsReadings) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!std::filesystem::exists(chromium))
+    GTEST_SKIP() << "chromium is not installed (apt-get install chromium)";
+  auto sim = LoadProbes();
+  sim->Step();
+  Served served(*sim);
+  const std::string dir = COLONY_BINARY_DIR "/tests/viewer";
+  std::filesystem::create_directories(dir);
+  DevToolsBrowser browser;
+  ASSERT_EQ(browser.Start(chromium, dir + "/profile_inspect"), "");
+  browser.Open(served.url() + "?select=a");
+  WaitFor(browser,
+          "document.body.dataset.inspected === 'a' && "
+          "document.getElementById('inspect').textContent.includes('proximity: 24 readings')",
+          true);
+  const json html = browser.Evaluate("document.documentElement.outerHTML");
+  const std::string text = html.is_string() ? html.get<std::string>() : "";
+  const std::string dom = dir + "/dom_inspect.html";
+  std::ofstream(dom) << text;
+  EXPECT_NE(text.find("data-inspected=\"a\""), std::string::npos) << "DOM in " << dom;
+  // The panel: the controller, the ring's 24 readings, the wheels and the values.
+  const size_t panel = text.find("id=\"inspect\"");
+  ASSERT_NE(panel, std::string::npos) << dom;
+  const std::string shown = text.substr(panel, text.find("</div>", panel) - panel);
+  for (const char* expected : {"controller viewer_probe", "proximity: 24 readings",
+                               "differential_steering", "left 0.010", "steps 1", "state odd"}) {
+    EXPECT_NE(shown.find(expected), std::string::npos) << expected << " not in: " << shown;
+  }
+  SaveScreenshot(browser, dir + "/viewer_inspect.png");
+}
+
 // Shift + drag on the page, with the mouse of a real browser, moves robot c
 // in the simulation: the server then has it where it was dropped.
 TEST(Viewer, ChromiumShiftDragMovesTheRobotInTheSimulation) {
@@ -1183,13 +1513,9 @@ TEST(Viewer, ChromiumShowsWhatTheLoopFunctionsDrawAndTheIdOverlay) {
   std::filesystem::create_directories(dir);
   DevToolsBrowser browser;
   ASSERT_EQ(browser.Start(chromium, dir + "/profile_drawing"), "");
-  browser.Open(served.url() + "?overlays=ids,rays&select=fb2");
-  // Drawn, with fb2's inspection in: its 24 rays.
-  json ready;
-  for (int k = 0; k < 300 && ready != true; ++k) {
-    std::this_thread::sleep_for(100ms);
-    ready = browser.Evaluate("document.body.dataset.overlayLines === '24'");
-  }
+  browser.Open(served.url() + "?overlays=ids,rays,fov&select=fb2");
+  // Drawn, with fb2's inspection in: its 24 rays and its camera's range (48 segments).
+  WaitFor(browser, "document.body.dataset.overlayLines === '72'", true);
   const json html = browser.Evaluate("document.documentElement.outerHTML");
   const std::string text = html.is_string() ? html.get<std::string>() : "";
   const std::string dom = dir + "/dom_drawing.html";
@@ -1203,16 +1529,12 @@ TEST(Viewer, ChromiumShowsWhatTheLoopFunctionsDrawAndTheIdOverlay) {
   EXPECT_GE(std::stoi(match[2]), 1) << "lines to the foot-bots within reach";
   EXPECT_TRUE(std::regex_search(text, std::regex("class=\"drawn-text\"[^>]*>reached \\d/5<")))
       << "DOM in " << dom;
-  // fb2 selected: its 24 proximity rays.
-  EXPECT_NE(text.find("data-overlay-lines=\"24\""), std::string::npos) << "DOM in " << dom;
+  // fb2 selected: its 24 proximity rays and its omnidirectional camera's range.
+  EXPECT_NE(text.find("data-overlay-lines=\"72\""), std::string::npos) << "DOM in " << dom;
   for (const char* id : {">fb0<", ">fb9<", ">eye0<"}) {
     EXPECT_NE(text.find(id), std::string::npos) << id << " not labelled; DOM in " << dom;
   }
-  const std::string shot = dir + "/viewer_drawing.png";
-  const std::string png =
-      DecodeBase64(browser.Call("Page.captureScreenshot", {{"format", "png"}}).value("data", ""));
-  ASSERT_GT(png.size(), 1000u);
-  std::ofstream(shot, std::ios::binary) << png;
+  SaveScreenshot(browser, dir + "/viewer_drawing.png");
 }
 
 // The trails overlay, on while the run plays, keeps each robot's positions
@@ -1424,7 +1746,7 @@ void CheckReplayAtTick15(const fs::path& dir) {
     EXPECT_EQ(r.y, static_cast<float>(p.y())) << id;
   }
 
-  // Inspect and move are refused, saying why; the replay stays at tick 15.
+  // Inspect, move and rays are refused, saying why; the replay stays at tick 15.
   client.Send(R"({"cmd":"inspect","id":")" + s["movers"][0]["id"].get<std::string>() + R"("})");
   auto error = Next(client, "error");
   ASSERT_TRUE(error);
@@ -1437,6 +1759,13 @@ void CheckReplayAtTick15(const fs::path& dir) {
   ASSERT_TRUE(error);
   EXPECT_NE(json::parse(error->payload)["message"].get<std::string>().find("move"),
             std::string::npos);
+  client.Send(R"({"cmd":"rays"})");
+  error = Next(client, "error");
+  ASSERT_TRUE(error);
+  EXPECT_NE(
+      json::parse(error->payload)["message"].get<std::string>().find("rays: this is a replay"),
+      std::string::npos)
+      << error->payload;
 
   // Reset goes back to tick 0; play runs to the last recorded tick (30).
   client.Send(R"({"cmd":"reset"})");
@@ -1475,6 +1804,84 @@ std::string ReplayError(const fs::path& folder) {
     return e.what();
   }
   return "";
+}
+
+// A run recorded with <output leds="true"> replays with the LED colours it
+// had: the aggregation example's robots turn from green (walking) to red
+// (staying in a spot). At a recorded tick where some are red and some
+// green, the replay's frame gives each robot the colour of its row, which
+// is the live run's at that tick; from CSV and from HDF5 alike.
+TEST(Viewer, ReplayOfARunRecordedWithLedsShowsTheirColours) {
+  std::map<std::string, fs::path> dirs;
+  for (const std::string format : {"csv", "hdf5"}) {
+    dirs[format] = testing::FreshTempDir("colony_view_leds", format);
+    const auto r = testing::RunCommand(
+        std::string(COLONY_BINARY_DIR "/bin/colony run ") + COLONY_SOURCE_DIR +
+        "/experiments/aggregation.xml --quiet --threads 1 --out " + dirs[format].string() +
+        " --set framework.experiment.length=60 --set output.trajectories_every=100"
+        " --set output.leds=true --set output.format=" +
+        format);
+    ASSERT_EQ(r.status, 0) << r.output;
+  }
+  // The CSV's colours per recorded tick: id -> (r, g, b).
+  const auto csv = sweep::ReadCsvFile((dirs["csv"] / "trajectories.csv").string());
+  const auto& header = csv.records.at(0);
+  auto at = [&](const char* name) {
+    return std::find(header.begin(), header.end(), name) - header.begin();
+  };
+  ASSERT_LT(at("led_b"), static_cast<long>(header.size()));
+  std::map<uint64_t, std::map<std::string, std::array<int, 3>>> colors;
+  for (size_t r = 1; r < csv.records.size(); ++r) {
+    const auto& row = csv.records[r];
+    colors[std::stoull(row[at("tick")])][row[at("id")]] = {
+        std::stoi(row[at("led_r")]), std::stoi(row[at("led_g")]), std::stoi(row[at("led_b")])};
+  }
+  // The first recorded tick where red and green robots are both there.
+  const std::array<int, 3> red = {255, 0, 0}, green = {0, 255, 0};
+  uint64_t shown = 0;
+  size_t steps = 0;
+  for (const auto& [tick, of] : colors) {
+    int reds = 0, greens = 0;
+    for (const auto& [id, c] : of) {
+      reds += c == red;
+      greens += c == green;
+    }
+    if (reds > 0 && greens > 0) {
+      shown = tick;
+      break;
+    }
+    ++steps;
+  }
+  ASSERT_GT(shown, 0u) << "no recorded tick with both staying (red) and walking robots";
+  ExperimentOptions options;
+  options.file = (dirs["csv"] / "experiment.xml").string();
+  auto live = Simulation::Load(options);
+  while (live->tick() < shown) live->Step();
+  for (const auto& [format, dir] : dirs) {
+    Replayed replay(dir);
+    ASSERT_FALSE(replay.ws().empty());
+    WebSocketClient client;
+    Connect(client, replay.ws());
+    const json scene = json::parse(Next(client, "scene")->payload);
+    ASSERT_TRUE(Next(client, "frame"));
+    for (size_t k = 0; k < steps; ++k) client.Send(R"({"cmd":"step"})");
+    std::optional<Frame> frame;
+    while (auto m = Next(client, "frame")) {
+      frame = Decode(m->payload);
+      if (frame->tick >= shown) break;
+    }
+    ASSERT_TRUE(frame);
+    ASSERT_EQ(frame->tick, shown) << format;
+    ASSERT_EQ(frame->records.size(), colors[shown].size());
+    for (size_t i = 0; i < frame->records.size(); ++i) {
+      const std::string id = scene["movers"][i]["id"];
+      const auto& r = frame->records[i];
+      EXPECT_EQ((std::array<int, 3>{r.r, r.g, r.b}), colors[shown][id]) << format << " " << id;
+      const Color c = live->space().leds(live->space().Find(id).index)[0];
+      EXPECT_EQ((std::array<int, 3>{c.r, c.g, c.b}), colors[shown][id]) << "live " << id;
+    }
+    client.Close();
+  }
 }
 
 // A copy of the CSV run folder with trajectories.csv replaced by `text`
@@ -1516,6 +1923,21 @@ TEST(Viewer, ReplayRefusesWhatIsNotAWholeRecordOfTheRun) {
   ghost += row;
   EXPECT_TRUE(testing::Mentions(ReplayError(BadFolder("ghost", "trajectories.csv", ghost)),
                                 {"robot 'ghost'", "not in the run's experiment.xml"}));
+  // LED columns: some but not all three; a channel that is not 0 to 255.
+  auto with_columns = [&](const std::string& header, const std::string& cells) {
+    std::string out;
+    std::istringstream in(rows);
+    for (std::string line; std::getline(in, line);)
+      out += line + (out.empty() ? header : cells) + "\n";
+    return out;
+  };
+  EXPECT_TRUE(testing::Mentions(
+      ReplayError(BadFolder("led_r", "trajectories.csv", with_columns(",led_r", ",0"))),
+      {"led_r, led_g, led_b but not all three"}));
+  EXPECT_TRUE(
+      testing::Mentions(ReplayError(BadFolder("led300", "trajectories.csv",
+                                              with_columns(",led_r,led_g,led_b", ",0,300,0"))),
+                        {"led_g 300", "not a colour channel"}));
   // Damaged gzip and HDF5 files.
   EXPECT_TRUE(testing::Mentions(
       ReplayError(BadFolder("gz", "trajectories.csv.gz", std::string("\x1f\x8b\x08\0", 4))),

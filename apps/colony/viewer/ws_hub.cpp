@@ -30,8 +30,19 @@ struct WebSocketHub::Impl {
     websocketpp::lib::error_code ec;
     Server::connection_ptr con = server.get_con_from_hdl(h, ec);
     if (ec || !con || con->get_state() != websocketpp::session::state::open) return;
-    if (droppable && con->get_buffered_amount() > max_buffered_bytes) {
+    const size_t waiting = con->get_buffered_amount();
+    if (droppable && waiting > max_buffered_bytes) {
       dropped.fetch_add(1, std::memory_order_relaxed);
+      return;
+    }
+    // What cannot be dropped (statuses, scenes, replies) still has a bound: a
+    // connection that reads nothing while it keeps asking is cut off (its
+    // close frame waits behind the rest; websocketpp ends the connection when
+    // the close handshake times out, 5 s later).
+    if (waiting > 2 * max_buffered_bytes) {
+      websocketpp::lib::error_code ignored;
+      con->close(websocketpp::close::status::policy_violation,
+                 "the client reads nothing of what it is sent", ignored);
       return;
     }
     // An error here is a connection closing under us: its close handler follows.

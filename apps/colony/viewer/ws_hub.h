@@ -46,7 +46,8 @@ class WebSocketHub {
   // `max_message_bytes`: a longer message from a browser closes its
   // connection (status 1009, "message too big"). `max_buffered_bytes`: a
   // droppable message is not sent to a connection with more than this still
-  // waiting to go out (a stalled browser), so it never grows without bound.
+  // waiting to go out (a stalled browser), so it never grows without bound;
+  // a connection with twice that waiting is closed (1008, policy violation).
   WebSocketHub(Handlers handlers, size_t max_message_bytes, size_t max_buffered_bytes);
   ~WebSocketHub();  // Stop()
   WebSocketHub(const WebSocketHub&) = delete;

@@ -62,11 +62,11 @@ const highlight = new THREE.Mesh(new THREE.RingBufferGeometry(1.25, 1.45, 32),
 highlight.visible = false;
 world.add(highlight);
 
-// Overlays, switched on the page (or with ?overlays=ids,trails,rays,links in
-// the address): robot ids, trails, the selected robot's proximity rays and
-// range-and-bearing links. Drawn from what the page already has (frames,
+// Overlays, switched on the page (or with ?overlays=ids,trails,rays,links,fov
+// in the address): robot ids, trails, the selected robot's proximity rays,
+// range-and-bearing links and cameras' fields of view. Drawn from what the page already has (frames,
 // the selected robot's inspection), so they cost the simulator nothing.
-const overlays = { ids: false, trails: false, rays: false, links: false };
+const overlays = { ids: false, trails: false, rays: false, allrays: false, links: false, fov: false };
 for (const name of (new URLSearchParams(location.search).get('overlays') || '').split(',')) {
   if (name in overlays) overlays[name] = true;
 }
@@ -441,8 +441,11 @@ function rebuildOverlays() {
   if (info && info.sensors) {
     const [x, y, z, yaw] = movers[selected].pose;
     for (const d of info.sensors) {
-      if (overlays.rays && d.kind === 'proximity' && d.rays) {
+      if (overlays.rays && !overlays.allrays && d.kind === 'proximity' && d.rays) {
         for (const r of d.rays) add([r[0], r[1], r[2]], [r[3], r[4], r[2]], r[5] ? [1, 0.16, 0.63] : [0.16, 0.78, 0.94]);
+      }
+      if (overlays.fov && d.fov) {
+        for (const s of d.fov) add([s[0], s[1], s[2]], [s[3], s[4], s[5]], [1, 0.82, 0.16]);
       }
       if (overlays.links && d.kind === 'range_and_bearing') {
         for (const p of d.packets) {
@@ -450,6 +453,11 @@ function rebuildOverlays() {
           add([x, y, z + 0.1], [x + flat * Math.cos(a), y + flat * Math.sin(a), z + 0.1 + p.range * Math.sin(p.elevation || 0)], [1, 0.8, 0.1]);
         }
       }
+    }
+  }
+  if (overlays.allrays && allRays) {
+    for (const rays of Object.values(allRays.robots)) {
+      for (const r of rays) add([r[0], r[1], r[2]], [r[3], r[4], r[2]], r[5] ? [1, 0.16, 0.63] : [0.16, 0.78, 0.94]);
     }
   }
   if (lines.length) {
@@ -530,6 +538,18 @@ function askInspect() {
 // the tick changed, at most 3 times a second.
 function refreshInspect() {
   if (selected >= 0 && tick !== inspectTick && performance.now() - inspectAsked > 330) askInspect();
+  refreshAllRays();
+}
+
+// Every robot's proximity rays (the "all rays" overlay, up to 300 robots):
+// asked for as the inspection is, when the tick changed, at most 3 times a second.
+let allRays = null, allRaysAsked = 0, allRaysTick = -1;
+function refreshAllRays() {
+  if (!overlays.allrays || tick === allRaysTick || performance.now() - allRaysAsked < 330) return;
+  if (movers.filter((m) => m.desc.robot).length > 300) return;
+  allRaysAsked = performance.now();
+  allRaysTick = tick;
+  send({ cmd: 'rays' });
 }
 
 function fixed(v, digits = 3) {
@@ -646,6 +666,9 @@ function connect() {
       updateBar();
       refreshInspect();
       needsRender = true;
+    } else if (message.type === 'rays') {
+      allRays = message;
+      rebuildOverlays();
     } else if (message.type === 'inspect') {
       inspected = message;
       rebuildOverlays();
@@ -672,7 +695,7 @@ document.getElementById('reset').onclick = () => {
 for (const name of Object.keys(overlays)) {
   const box = document.getElementById('overlay-' + name);
   box.checked = overlays[name];
-  box.onchange = () => { overlays[name] = box.checked; rebuildOverlays(); };
+  box.onchange = () => { overlays[name] = box.checked; allRaysTick = -1; refreshAllRays(); rebuildOverlays(); };
 }
 document.getElementById('top').onclick = topView;
 document.getElementById('persp').onclick = perspectiveView;
