@@ -63,19 +63,10 @@ class Sensor {
     throw std::invalid_argument("this sensor emits no events (Watch); sensors that do: proximity");
   }
   // For the host's bus accounting (docs/events.md): whether the controller
-  // read this sensor's readings since the last call.
-  bool TakeRead() {
-    const bool read = read_;
-    read_ = false;
-    return read;
-  }
-
- protected:
-  // Called by a readings accessor: the controller polled the sensor.
-  void MarkRead() const { read_ = true; }
-
- private:
-  mutable bool read_ = false;
+  // read this sensor's readings since the last call. Only sensors with a
+  // bus model (SensorSystem::BusValues) keep track; the others say false
+  // and keep nothing (no byte per instance for a feature few runs use).
+  virtual bool TakeRead() { return false; }
 };
 
 // Base of every actuator's control interface (actuators/<name>/<name>.h).

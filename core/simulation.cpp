@@ -151,6 +151,8 @@ void Simulation::AttachController(Robot& robot, int line) {
   table.actuators = robot.actuators;
   table.run_folder = &run_folder_;
   robot.controller->Bind(table, RandomStream::For(seed_, id, "controller"));
+  robot.timing.reset();
+  if (config.step_period > 0 || config.any_bus) robot.timing = std::make_unique<Robot::Timing>();
   if (config.step_period > 0) {
     // A random phase comes from a stream of its own, so the controller's
     // stream is the same with and without it.
@@ -158,7 +160,7 @@ void Simulation::AttachController(Robot& robot, int line) {
         config.random_phase
             ? RandomStream::For(seed_, id, "controller_phase").Uniform() * config.step_period
             : config.step_phase;
-    robot.step = Schedule(config.step_period, phase);
+    robot.timing->step = Schedule(config.step_period, phase);
   }
   for (size_t i = 0; i < ns && config.any_bus; ++i) {
     if (config.sensor_bus[i] && config.sensors[i]->BusValues(robot.sensors[i]) == 0) {
@@ -513,8 +515,9 @@ void Simulation::SenseAndControl() {
     // In robot order, after the parallel part: the same sum whatever the
     // thread count.
     for (Robot& r : robots_) {
-      bus_bytes_ += r.bus_bytes;
-      r.bus_bytes = 0;
+      if (!r.timing) continue;
+      bus_bytes_ += r.timing->bus_bytes;
+      r.timing->bus_bytes = 0;
     }
     metrics_.Set("bus_bytes", static_cast<double>(bus_bytes_));
   }
@@ -537,16 +540,16 @@ void Simulation::StepTimed(Robot& r, uint64_t tick, std::vector<SensorEvent>& ev
       if (!system.HasWatches()) continue;
       events.clear();
       system.TakeEvents(r.sensors[k], events);
-      if (config.any_bus && config.sensor_bus[k]) r.bus_bytes += events.size() * BusEventBytes();
+      if (config.any_bus && config.sensor_bus[k]) r.timing->bus_bytes += events.size() * BusEventBytes();
       for (const SensorEvent& event : events) r.controller->OnEvent(event);
     }
   }
-  if (config.step_period == 0 || r.step.Due(tick)) r.controller->ControlStep();
+  if (config.step_period == 0 || r.timing->step.Due(tick)) r.controller->ControlStep();
   // A sensor the controller read (in OnEvent or ControlStep) was polled.
   if (!config.any_bus) return;
   for (size_t k = 0; k < ns; ++k) {
     if (config.sensor_bus[k] && r.sensors[k]->TakeRead())
-      r.bus_bytes += BusPollBytes(config.sensors[k]->BusValues(r.sensors[k]));
+      r.timing->bus_bytes += BusPollBytes(config.sensors[k]->BusValues(r.sensors[k]));
   }
 }
 

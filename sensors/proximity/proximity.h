@@ -18,14 +18,22 @@ class ProximitySensor : public Sensor {
   // One reading per sensor, in ring order. Reading them is a poll of the
   // ring, counted on the robot's bus when it has bus accounting (docs/events.md).
   const std::vector<Reading>& readings() const {
-    MarkRead();
+    read_ = true;
     return readings_;
+  }
+  bool TakeRead() override {
+    const bool read = read_;
+    read_ = false;
+    return read;
   }
   // Watch (Sensor::Watch): events when a reading's value crosses a
   // threshold; `reading` is the sensor's index in ring order.
 
  protected:
   std::vector<Reading> readings_;
+
+ private:
+  mutable bool read_ = false;  // readings() was called since TakeRead
 };
 
 }  // namespace colony
