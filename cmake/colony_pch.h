@@ -5,6 +5,8 @@
 // ccache, see CMakeLists.txt) checks that they do.
 #pragma once
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -21,9 +23,6 @@
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "core/device.h"
 #include "core/error.h"

@@ -540,7 +540,8 @@ void Simulation::StepTimed(Robot& r, uint64_t tick, std::vector<SensorEvent>& ev
       if (!system.HasWatches()) continue;
       events.clear();
       system.TakeEvents(r.sensors[k], events);
-      if (config.any_bus && config.sensor_bus[k]) r.timing->bus_bytes += events.size() * BusEventBytes();
+      if (config.any_bus && config.sensor_bus[k])
+        r.timing->bus_bytes += events.size() * BusEventBytes();
       for (const SensorEvent& event : events) r.controller->OnEvent(event);
     }
   }
