@@ -163,6 +163,14 @@ TEST(Cli, QueryListsPluginsWithTheirAttributes) {
   ASSERT_EQ(one.status, 0);
   EXPECT_NE(one.output.find("noise_std_dev"), std::string::npos) << one.output;
   EXPECT_NE(one.output.find("range = a number > 0 (m)"), std::string::npos) << one.output;
+  // The attributes the core reads on every sensor and controller element.
+  for (const char* attribute : {"period = a number of seconds", "phase = a number of seconds",
+                                "bus = true, false  [default: false]"}) {
+    EXPECT_NE(one.output.find(attribute), std::string::npos) << attribute << "\n" << one.output;
+  }
+  const Result controller = Colony("query diffusion");
+  EXPECT_NE(controller.output.find("rate = a number of steps per second"), std::string::npos)
+      << controller.output;
   const Result kind = Colony("query engine");
   EXPECT_NE(kind.output.find("kinematics2d"), std::string::npos);
   EXPECT_EQ(kind.output.find("marxbot"), std::string::npos);

@@ -442,6 +442,40 @@ void PrintControlInterface(const colony::PluginInfo& p) {
   std::printf("      XML attributes:%s\n", p.attributes.empty() ? " none" : "");
 }
 
+// The attributes every sensor takes (sampling, bus accounting) or every
+// controller element takes (its rate), read by the core (docs/events.md).
+void PrintTimingAttributes(bool sensor) {
+  struct Attribute {
+    const char *name, *accepted, *default_value, *summary;
+  };
+  static const Attribute kSensor[] = {
+      {"period", "a number of seconds >= one tick", "every tick",
+       "samples every period; the readings are held in between (docs/events.md)"},
+      {"phase", "a number of seconds in [0, period), or random", "0",
+       "when the first sample falls (with period)"},
+      {"bus", "true, false", "false",
+       "counts what reading it costs on the robot's bus: metric bus_bytes (sensors with a bus "
+       "model: proximity)"},
+  };
+  static const Attribute kController[] = {
+      {"rate", "a number of steps per second <= ticks_per_second", "every tick",
+       "ControlStep is called at this rate (OnEvent whenever a watched sensor emits)"},
+      {"phase", "a number of seconds in [0, 1 / rate), or random", "0",
+       "when the first step falls (with rate)"},
+  };
+  std::printf("      %s:\n", sensor ? "every sensor's sampling and bus accounting"
+                                    : "attributes of the controller's element");
+  const auto print = [](const Attribute& a) {
+    std::printf("      %s = %s  [default: %s]\n          %s\n", a.name, a.accepted, a.default_value,
+                a.summary);
+  };
+  if (sensor) {
+    for (const auto& a : kSensor) print(a);
+  } else {
+    for (const auto& a : kController) print(a);
+  }
+}
+
 int Query(CLI::App& command, const std::string& filter) {
   if (!command.remaining().empty()) {
     throw UsageError("query takes at most one KIND or NAME ('" + filter + "' and '" +
@@ -476,6 +510,7 @@ int Query(CLI::App& command, const std::string& filter) {
       if (name_match || kind_match) {
         PrintControlInterface(*p);
         if (kind == colony::PluginKind::kController) {
+          PrintTimingAttributes(false);
           std::printf("      parameters (<params> attributes):%s\n",
                       p->attributes.empty() ? " none declared" : "");
         }
@@ -488,6 +523,7 @@ int Query(CLI::App& command, const std::string& filter) {
                       a.default_value.empty() ? "" : (a.default_value + "]").c_str(),
                       a.summary.c_str());
         }
+        if (kind == colony::PluginKind::kSensor) PrintTimingAttributes(true);
       }
     }
   }

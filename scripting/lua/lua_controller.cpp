@@ -348,6 +348,25 @@ class LuaController : public Controller {
     if (lua_pcall(L_, 0, 0, kTraceback) != LUA_OK) Failed("step()", PopError());
   }
 
+  // An event of a watch the script asked for (robot.watch): the global
+  // on_event(event) is called with it. The robot table is not refreshed
+  // (that would read the ring: a poll, in bus accounting).
+  void OnEvent(const SensorEvent& event) override {
+    if (state_ != State::kRunning) return;
+    if (lua_getglobal(L_, "on_event") != LUA_TFUNCTION) {
+      lua_pop(L_, 1);
+      Failed("on_event()",
+             "the script watches a sensor (robot.watch) but defines no global function "
+             "on_event(event)");
+      return;
+    }
+    if (!robot_->PushEvent(L_, event)) {
+      lua_pop(L_, 1);
+      return;
+    }
+    if (lua_pcall(L_, 1, 0, kTraceback) != LUA_OK) Failed("on_event()", PopError());
+  }
+
   void Reset() override {
     if (state_ == State::kRunning) {
       CallIfDefined("reset");

@@ -569,6 +569,132 @@ TEST(LuaErrors, ContinueOnErrorStopsOnlyThatRobotsScript) {
   fs::remove_all(dir);
 }
 
+// --- events (docs/events.md) ---------------------------------------------------------------------
+
+// Seed 000's latency experiment in Lua: a marXbot drives at 15 cm/s at a wall
+// and asks its ring (robot.watch) for an event when a front reading rises to
+// 1/3 (30 mm). on_event gets each crossing once, between the 10 Hz steps,
+// and the robot stops as the C++ wall_stop does. Bus accounting counts 7 B
+// per event and 61 B per step (the host refreshes robot.proximity before
+// every step: a poll), none for the event calls.
+// `controller`: the element's name and attributes, e.g. lua_controller id="c".
+std::string WallFile(const std::string& params, const std::string& controller = "lua_controller") {
+  const std::string name = controller.substr(0, controller.find(' '));
+  return R"(<?xml version="1.0"?>
+<colony>
+  <framework><experiment length="3" ticks_per_second="200" random_seed="1"/></framework>
+  <controllers>
+    <)" + (controller == "lua_controller" ? controller + " id=\"c\"" : controller) +
+         R"( rate="10">
+      <actuators><differential_steering/></actuators>
+      <sensors><proximity period="0.015" bus="true"/><light/></sensors>
+      <params )" +
+         params + "/>\n    </" + name + R"(>
+  </controllers>
+  <arena size="1.2,1.2,0.5" center="0,0,0.25">
+    <box id="wall" size="0.1,1,0.2"><body position="0.385,0,0"/></box>
+    <marxbot id="mb"><body position="0,0,0"/><controller config="c"/></marxbot>
+  </arena>
+  <physics_engines><kinematics2d id="k2d"/></physics_engines>
+</colony>
+)";
+}
+
+const char* kWallStopScript = R"lua(
+events, stopped = 0, false
+function init()
+  first = robot.watch("proximity", {reading = 1, threshold = 1 / 3, crossing = "rising"})
+  last = robot.watch("proximity", {reading = 24, threshold = 1 / 3, crossing = "rising"})
+  assert(first == 1 and last == 2, "watch numbers " .. first .. ", " .. last)
+  robot.wheels.set_velocity(15, 15)
+end
+function on_event(e)
+  events = events + 1
+  assert(e.sensor == "proximity" and e.rising == true, "a rising proximity event")
+  assert((e.watch == 1 and e.reading == 1) or (e.watch == 2 and e.reading == 24),
+         "watch " .. e.watch .. " reading " .. e.reading)
+  assert(e.value >= 1 / 3, "value " .. e.value)
+  assert(events <= 2, "event " .. events .. ": each crossing once")
+  stopped = true
+  robot.wheels.set_velocity(0, 0)
+end
+function step()
+  if not stopped then robot.wheels.set_velocity(15, 15) end
+end
+)lua";
+
+TEST(LuaEvents, OnEventGetsEachCrossingOnceBetweenStepsAndTheRobotStops) {
+  const fs::path dir = WriteFiles(
+      "events", {{"wall.xml", WallFile("script=\"stop.lua\"")}, {"stop.lua", kWallStopScript}});
+  auto sim = Load((dir / "wall.xml").string());
+  double x_at_2s = 0;
+  while (!sim->Done()) {
+    sim->Step();
+    if (sim->tick() == 400) x_at_2s = sim->space().pose(sim->space().Find("mb").index).position.x();
+  }
+  const double x = sim->space().pose(sim->space().Find("mb").index).position.x();
+  EXPECT_EQ(x, x_at_2s) << "the robot stands still once stopped";
+  // Where the C++ wall_stop (controllers/e4) stops with events on the same
+  // samples: 30 mm from the wall, less what it drove before the sample and
+  // while slowing down.
+  auto cpp = testing::LoadXml(WallFile("mode=\"events\" speed=\"0.15\" distance=\"0.03\"",
+                                       "wall_stop id=\"c\" library=\"e4\""));
+  while (!cpp->Done()) cpp->Step();
+  EXPECT_EQ(x, cpp->space().pose(cpp->space().Find("mb").index).position.x());
+  const double gap = 0.335 - x - 0.085;  // the wall's face is at 0.335; the robot's radius 0.085
+  EXPECT_LT(gap, 0.03);
+  EXPECT_GT(gap, 0.02);
+  // 30 steps at 10 Hz over 3 s, each a poll of the ring (61 B); one or two
+  // events (the two front readings may cross on the same sample) of 7 B.
+  const double bus = testing::Metric(*sim, "bus_bytes");
+  const double event_bytes = bus - 30 * 61;
+  EXPECT_TRUE(event_bytes == 7 || event_bytes == 14) << bus;
+  fs::remove_all(dir);
+}
+
+TEST(LuaEvents, BadWatchesAndAMissingOnEventStopTheRunNamingWhatIsWrong) {
+  struct Case {
+    const char* name;
+    const char* init;
+    std::vector<std::string> mentions;
+  };
+  const std::vector<Case> cases = {
+      {"light",
+       "robot.watch('light', {threshold = 0.5})",
+       {"stop.lua:2:", "robot.watch: 'light' emits no events", "sensors that do: proximity"}},
+      {"reading",
+       "robot.watch('proximity', {reading = 25, threshold = 0.5})",
+       {"stop.lua:2:", "reading 25 does not exist", "readings 1..24"}},
+      {"field",
+       "robot.watch('proximity', {threshold = 0.5, treshold = 1})",
+       {"stop.lua:2:", "unknown field treshold", "accepted: reading, threshold"}},
+      {"crossing",
+       "robot.watch('proximity', {threshold = 0.5, crossing = 'up'})",
+       {"stop.lua:2:", "crossing 'up' is not accepted", "rising, falling, both"}},
+      {"hysteresis",
+       "robot.watch('proximity', {threshold = 0.5, hysteresis = -1})",
+       {"stop.lua:2:", "hysteresis must be a finite number >= 0"}},
+      {"threshold",
+       "robot.watch('proximity', {reading = 1})",
+       {"stop.lua:2:", "needs a threshold"}},
+      {"no_on_event",
+       "robot.watch('proximity', {threshold = 0.2}) robot.wheels.set_velocity(15, 15)",
+       {"Lua error in on_event()", "defines no global function on_event(event)", "robot 'mb'"}},
+  };
+  for (const Case& c : cases) {
+    const std::string script =
+        std::string("function init()\n  ") + c.init + "\nend\nfunction step() end\n";
+    const fs::path dir =
+        WriteFiles(std::string("watch_") + c.name,
+                   {{"wall.xml", WallFile("script=\"stop.lua\"")}, {"stop.lua", script}});
+    const Result r =
+        Colony("run " + (dir / "wall.xml").string() + " --out " + (dir / "out").string());
+    EXPECT_EQ(r.status, 1) << c.name << "\n" << r.output;
+    EXPECT_TRUE(testing::Mentions(r.output, c.mentions)) << c.name << "\n" << r.output;
+    fs::remove_all(dir);
+  }
+}
+
 // Each robot's Lua objects live in its own arena (lua_alloc.cpp) and every
 // robot loads the script's bytecode compiled once. Objects of every size,
 // grown, shrunk and collected over several ticks on three robots, keep their

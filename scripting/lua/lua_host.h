@@ -60,6 +60,10 @@ class RobotTable {
              const std::vector<std::pair<std::string, std::string>>& params);
   // Writes this tick's sensor readings into the tables.
   void Update(lua_State* L);
+  // Pushes the Lua table of `event` ({sensor, watch, reading, value,
+  // rising}) and returns true; returns false, pushing nothing, when the
+  // event is not from a watch this table made (robot.watch).
+  bool PushEvent(lua_State* L, const SensorEvent& event) const;
 
  private:
   struct Binding;
@@ -71,6 +75,22 @@ class RobotTable {
   // Pushes the interned keys of list entries (kKeyNames in lua_robot.cpp);
   // returns the stack slot of the first.
   int PushKeys(lua_State* L) const;
+  // robot.watch(sensor, spec) (docs/events.md): the C function and what it
+  // does, without raising (returns an error message, or "" and the watch's
+  // number).
+  static int WatchFunction(lua_State* L);
+  std::string AddWatch(const std::string& name, ThresholdWatch spec, bool each,
+                       long long lua_reading, int* number);
+  // One watch the sensor made for robot.watch: the sensor's number for it
+  // and the Lua watch number it stands for (a watch of each reading of a
+  // ring that Lua sees only part of is one sensor watch per reading).
+  struct WatchRecord {
+    const Sensor* sensor;
+    int sensor_watch;
+    int number;
+  };
+  std::vector<WatchRecord> watches_;
+  int watch_count_ = 0;
   std::vector<Binding> bindings_;
   int value_key_ = LUA_NOREF;  // the interned string "value", for the rings
   int keys_ = LUA_NOREF;       // a table of the list entries' keys

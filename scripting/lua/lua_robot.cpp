@@ -12,6 +12,7 @@
 // ARGoS: a script that keeps last step's message keeps its values.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <optional>
 #include <stdexcept>
 #include <string_view>
@@ -419,6 +420,9 @@ struct RobotTable::Binding {
   bool threshold = false;       // base ground: 0 below 0.5, else 1 (as ARGoS's)
   // The distance scanner's readings of one tick, sorted by angle (reused).
   std::vector<std::pair<float, float>> sorted;
+  // Sensors that emit events (robot.watch): the sensor, and its name there.
+  Sensor* events = nullptr;
+  const char* name = nullptr;
 };
 
 RobotTable::RobotTable() = default;
@@ -470,6 +474,10 @@ void RobotTable::Build(lua_State* L, const DeviceTable& devices, RandomStream* r
     const std::string& label = (*devices.sensor_labels)[i];
     claim(BindSensor(L, robot, label, devices.sensors[i]), label, "sensor");
   }
+  // robot.watch (Colony's, not ARGoS's): events from sensors (docs/events.md).
+  lua_pushlightuserdata(L, this);
+  lua_pushcclosure(L, WatchFunction, 1);
+  lua_setfield(L, robot, "watch");
   lua_setglobal(L, "robot");
 }
 
@@ -555,6 +563,8 @@ std::vector<std::string> RobotTable::BindSensor(lua_State* L, int robot, const s
     b.kind = Binding::Kind::kProximity;
     claim = "robot.proximity";
     ring("proximity", proximity->readings(), false);
+    b.events = proximity;
+    b.name = "proximity";
   } else if (auto* light = dynamic_cast<LightSensor*>(sensor)) {
     b.kind = Binding::Kind::kLight;
     claim = "robot.light";
@@ -670,6 +680,152 @@ std::vector<std::string> RobotTable::BindSensor(lua_State* L, int robot, const s
   lua_settop(L, top);
   bindings_.push_back(std::move(b));
   return {claim};
+}
+
+// --- events: robot.watch and on_event
+// -------------------------------------------------------------
+
+std::string RobotTable::AddWatch(const std::string& name, ThresholdWatch spec, bool each,
+                                 long long lua_reading, int* number) {
+  const Binding* binding = nullptr;
+  for (const Binding& b : bindings_) {
+    if (b.events && name == b.name) binding = &b;
+  }
+  if (binding == nullptr) {
+    bool declared = false;
+    for (const Binding& b : bindings_) declared = declared || b.events != nullptr;
+    return "robot.watch: '" + name + "' emits no events; sensors that do: proximity" +
+           (declared ? std::string()
+                     : std::string(" (not declared for this robot: add footbot_proximity or "
+                                   "proximity to the controller's <sensors>)"));
+  }
+  const int count =
+      static_cast<int>(binding->source.empty() ? binding->written.size() : binding->source.size());
+  if (!each && (lua_reading < 1 || lua_reading > count)) {
+    return "robot.watch: reading " + std::to_string(lua_reading) + " does not exist; robot." +
+           name + " has readings 1.." + std::to_string(count) + " (or leave reading out: each)";
+  }
+  const int n = ++watch_count_;
+  try {
+    if (binding->source.empty() || !each) {
+      if (!each) {
+        spec.reading = binding->source.empty() ? lua_reading - 1 : binding->source[lua_reading - 1];
+      }
+      watches_.push_back({binding->sensor, binding->events->Watch(spec), n});
+    } else {
+      for (uint8_t reading : binding->source) {
+        spec.reading = reading;
+        watches_.push_back({binding->sensor, binding->events->Watch(spec), n});
+      }
+    }
+  } catch (const std::invalid_argument& e) {
+    --watch_count_;
+    std::string message = e.what();
+    if (message.rfind("Watch: ", 0) == 0) message.erase(0, 7);
+    return "robot.watch: " + message;
+  }
+  *number = n;
+  return {};
+}
+
+// robot.watch(sensor, {reading = i, threshold = t, crossing = "rising" |
+// "falling" | "both", hysteresis = h}): returns the watch's number (1, 2, ...).
+int RobotTable::WatchFunction(lua_State* L) {
+  auto* self = static_cast<RobotTable*>(lua_touserdata(L, lua_upvalueindex(1)));
+  const char* name = luaL_checkstring(L, 1);
+  luaL_checktype(L, 2, LUA_TTABLE);
+  lua_pushnil(L);
+  while (lua_next(L, 2) != 0) {
+    lua_pop(L, 1);
+    const char* key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : nullptr;
+    bool known = false;
+    for (const char* k : {"reading", "threshold", "crossing", "hysteresis"}) {
+      known = known || (key && std::strcmp(key, k) == 0);
+    }
+    if (!known) {
+      return luaL_error(L,
+                        "robot.watch: unknown field %s in the watch; accepted: reading, "
+                        "threshold, crossing, hysteresis",
+                        key ? key : luaL_typename(L, -1));
+    }
+  }
+  ThresholdWatch spec;
+  bool each = true;
+  long long lua_reading = 0;
+  if (lua_getfield(L, 2, "reading") != LUA_TNIL) {
+    int exact = 0;
+    lua_reading = lua_tointegerx(L, -1, &exact);
+    if (!exact) return luaL_error(L, "robot.watch: reading must be a whole number (1-based)");
+    each = false;
+  }
+  if (lua_getfield(L, 2, "threshold") != LUA_TNUMBER) {
+    return luaL_error(L, "robot.watch: the watch needs a threshold (a number)");
+  }
+  spec.threshold = lua_tonumber(L, -1);
+  switch (lua_getfield(L, 2, "hysteresis")) {
+    case LUA_TNIL:
+      break;
+    case LUA_TNUMBER:
+      spec.hysteresis = lua_tonumber(L, -1);
+      break;
+    default:
+      return luaL_error(L, "robot.watch: hysteresis must be a number >= 0");
+  }
+  if (lua_getfield(L, 2, "crossing") != LUA_TNIL) {
+    const char* c = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
+    if (std::strcmp(c, "rising") == 0) {
+      spec.crossing = Crossing::kRising;
+    } else if (std::strcmp(c, "falling") == 0) {
+      spec.crossing = Crossing::kFalling;
+    } else if (std::strcmp(c, "both") != 0) {
+      return luaL_error(L,
+                        "robot.watch: crossing '%s' is not accepted; accepted: rising, "
+                        "falling, both",
+                        lua_type(L, -1) == LUA_TSTRING ? c : luaL_typename(L, -1));
+    }
+  }
+  int number = 0;
+  bool failed = false;
+  {
+    const std::string error = self->AddWatch(name, spec, each, lua_reading, &number);
+    failed = !error.empty();
+    if (failed) lua_pushlstring(L, error.data(), error.size());
+  }
+  if (failed) return lua_error(L);  // no C++ object alive from here
+  lua_pushinteger(L, number);
+  return 1;
+}
+
+bool RobotTable::PushEvent(lua_State* L, const SensorEvent& event) const {
+  const WatchRecord* record = nullptr;
+  for (const WatchRecord& w : watches_) {
+    if (w.sensor == event.sensor && w.sensor_watch == event.watch) record = &w;
+  }
+  if (record == nullptr) return false;
+  const Binding* binding = nullptr;
+  for (const Binding& b : bindings_) {
+    if (b.sensor == event.sensor) binding = &b;
+  }
+  if (binding == nullptr) return false;
+  int reading = event.reading + 1;
+  if (!binding->source.empty()) {
+    const auto at = std::find(binding->source.begin(), binding->source.end(), event.reading);
+    if (at == binding->source.end()) return false;
+    reading = static_cast<int>(at - binding->source.begin()) + 1;
+  }
+  lua_createtable(L, 0, 5);
+  lua_pushstring(L, binding->name);
+  lua_setfield(L, -2, "sensor");
+  lua_pushinteger(L, record->number);
+  lua_setfield(L, -2, "watch");
+  lua_pushinteger(L, reading);
+  lua_setfield(L, -2, "reading");
+  // As the ring's entries hold it (a float), so it equals robot.proximity[i].value.
+  lua_pushnumber(L, static_cast<float>(event.value));
+  lua_setfield(L, -2, "value");
+  lua_pushboolean(L, event.rising);
+  lua_setfield(L, -2, "rising");
+  return true;
 }
 
 int RobotTable::PushKeys(lua_State* L) const {
