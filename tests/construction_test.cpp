@@ -112,7 +112,7 @@ TEST(construction, RemoteCubesBridgeIsBuiltFirst) {
   // in docs/construction.md): the two local cubes fill the ditch and the
   // robot has crossed into the region of the remote cubes.
   const Outcome o =
-      RunExperiment("construction_remote.xml", 2, {"framework.experiment.length=300"});
+      RunExperiment("construction_remote.xml", 1, {"framework.experiment.length=300"});
   EXPECT_FALSE(o.failed);
   EXPECT_EQ(Metric(*o.sim, "cubes_in_ditch"), 2);
   EXPECT_GT(PositionOf(*o.sim, "builder").x(), 0.12);

@@ -471,11 +471,20 @@ class Construction : public colony::Controller {
           Next(Phase::kBackOff);
         }
         break;
-      case Phase::kBackOff:
-        wheels_->SetLinearVelocity(-speed_, -speed_);
-        if (ticks_in_phase_ > 10) {
+      case Phase::kBackOff: {
+        // Back off; after the first cube of a bridge, far enough for the
+        // camera to see where it lies in the ditch (the second goes beside it).
+        const bool look = !building_tower_ && placed_ == 0;
+        const int back = look ? 22 : 10;
+        if (ticks_in_phase_ <= back) {
+          wheels_->SetLinearVelocity(-speed_, -speed_);
+          break;
+        }
+        Stop();
+        if (look && ticks_in_phase_ < back + 3) break;  // an image from here
+        if (look) LocateFirstBridgeCube();
+        {
           manipulator_->SetElevation(kCarryElevation);
-          Stop();
           ++placed_;
           if (building_tower_) {
             Next(placed_ < 3 ? Phase::kSearch : Phase::kDone);
@@ -484,15 +493,30 @@ class Construction : public colony::Controller {
           }
         }
         break;
+      }
       case Phase::kToBridge: {
-        const Point start{site_.x - 0.35 * across_.x, site_.y - 0.35 * across_.y};
-        if (Steer(start, 0.01)) Next(Phase::kFaceGoal);
+        // Straight over the middle of the two cubes (where they are, not
+        // where they were meant to be), then to the goal.
+        const Point mid = BridgeMiddle();
+        if (Steer({mid.x - 0.35 * across_.x, mid.y - 0.35 * across_.y}, 0.01)) {
+          Next(Phase::kFaceGoal);
+        }
         break;
       }
-      case Phase::kFaceGoal:
-        if (Face(goal_)) Next(Phase::kCross);
+      case Phase::kFaceGoal: {
+        const Point mid = BridgeMiddle();
+        if (Face({mid.x + 0.35 * across_.x, mid.y + 0.35 * across_.y})) {
+          reached_ = false;
+          Next(Phase::kCross);
+        }
         break;
-      case Phase::kCross:
+      }
+      case Phase::kCross: {
+        const Point mid = BridgeMiddle(), over{mid.x + 0.2 * across_.x, mid.y + 0.2 * across_.y};
+        if (!reached_) {
+          reached_ = Steer(over, 0.02);
+          break;
+        }
         if (Steer(goal_, 0.02)) {
           if (task_ == "remote" && !building_tower_) {
             // Across: now the tower, with the cubes of the other region.
@@ -508,6 +532,7 @@ class Construction : public colony::Controller {
           }
         }
         break;
+      }
       case Phase::kDone:
         Stop();
         break;
@@ -787,8 +812,38 @@ class Construction : public colony::Controller {
   // Where the current cube goes: bridge cubes side by side along the ditch.
   Point Place() const {
     if (building_tower_) return site_;
-    const double along = (placed_ == 0 ? -0.5 : 0.5) * (kCubeSide + 0.012);
+    const double along =
+        placed_ == 0 ? -0.5 * (kCubeSide + 0.012) : first_along_ + kCubeSide + 0.012;
     return {site_.x - along * across_.y, site_.y + along * across_.x};
+  }
+
+  // The middle of the bridge: between the first cube and the second beside it.
+  Point BridgeMiddle() const {
+    const double along = first_along_ + 0.5 * (kCubeSide + 0.012);
+    return {site_.x - along * across_.y, site_.y + along * across_.x};
+  }
+
+  // Where the first cube of the bridge lies along the ditch (from the site,
+  // along the ditch's direction), from its top in the dark band: the bright
+  // pixels whose rays meet the floor's plane within 4 cm of the ditch's
+  // centre line. Unchanged (where it was put) if it does not show.
+  void LocateFirstBridgeCube() {
+    const int w = camera_->width(), h = camera_->height();
+    double sum = 0;
+    int n = 0;
+    for (int v = h / 2 + 1; v < h; ++v) {
+      for (int u = 0; u < w; ++u) {
+        const colony::Color c = camera_->At(u, v);
+        if ((c.r + c.g + c.b) / 3 < kBrightGrey) continue;
+        const auto p = BackProject(u + 0.5, v + 0.5, 0, w, h);
+        if (!p) continue;
+        const double off = (p->x - site_.x) * across_.x + (p->y - site_.y) * across_.y;
+        if (std::abs(off) > 0.04) continue;
+        sum += -(p->x - site_.x) * across_.y + (p->y - site_.y) * across_.x;
+        ++n;
+      }
+    }
+    if (n >= 10) first_along_ = std::clamp(sum / n, -0.08, 0.02);
   }
   // The line the robot's axis follows to put the held cube on the bridge's
   // place: shifted by how far off the middle the magnet holds it.
@@ -860,7 +915,7 @@ class Construction : public colony::Controller {
   double x_ = 0, y_ = 0, yaw_ = 0;
   bool building_tower_ = false, turning_ = false, scanned_ = false, reached_ = false;
   int placed_ = 0, stage_ = 1, lineups_ = 0, vantage_index_ = 0, ticks_ = 0;
-  double turned_ = 0, last_yaw_ = 0;
+  double turned_ = 0, last_yaw_ = 0, first_along_ = -0.5 * (kCubeSide + 0.012);
   Point vantage_;
   Phase phase_ = Phase::kSearch;
   int ticks_in_phase_ = 0;

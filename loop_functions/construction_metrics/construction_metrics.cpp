@@ -14,7 +14,9 @@
 //           robot has crossed the bridge to build it).
 //   failure: the robot fell (its base more than 2 cm below the floor).
 //   metrics: success (0/1), failed (0/1), outcome_time (s of success or failure,
-//            -1 while running), cubes_in_ditch, tower_height, robot_z
+//            -1 while running), cubes_in_ditch, tower_height, robot_z,
+//            cubes_tilted (cubes more than 5 degrees off level: jammed across
+//            the ditch's edge or half on another cube)
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -104,6 +106,9 @@ class ConstructionMetrics : public LoopFunctions {
     m.Set("cubes_in_ditch", in_ditch);
     m.Set("tower_height", height);
     m.Set("robot_z", rp.z() - floor_z);
+    int tilted = 0;
+    for (uint32_t c : space.OfType(cube_type_)) tilted += Level(c) ? 0 : 1;
+    m.Set("cubes_tilted", tilted);
   }
 
   bool IsExperimentFinished() override { return stop_ && (success_ || failed_); }
