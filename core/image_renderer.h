@@ -28,6 +28,7 @@ struct CameraView {
   double fov = 60;                          // horizontal field of view (degrees), in (0, 180)
   double near_clip = 0.01, far_clip = 100;  // m; nothing nearer or farther is drawn
   int width = 640, height = 480;            // pixels
+  double pixel_aspect = 1;                  // a pixel's width over its height
   EntityHandle hidden;  // an entity not drawn (e.g. the robot carrying the camera); none by default
 };
 

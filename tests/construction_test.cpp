@@ -1,7 +1,10 @@
 // The construction experiments (EXPERIMENTS.md E3) run to the end: the
 // marXbot builds the bridge and crosses it, and stacks the tower, as a user
-// running experiments/construction_*.xml sees in metrics.csv.
+// running experiments/construction_*.xml sees in metrics.csv; and the
+// controller is never told where the cubes are.
 #include <cmath>
+#include <fstream>
+#include <regex>
 #include <string>
 
 #include "tests/test_util.h"
@@ -32,7 +35,6 @@ TEST(construction, BridgeIsBuiltAndCrossed) {
     EXPECT_TRUE(o.success) << "seed " << seed;
     EXPECT_FALSE(o.failed) << "seed " << seed;
     EXPECT_GT(o.time, 30) << "seed " << seed;
-    EXPECT_LT(o.time, 200) << "seed " << seed;
     EXPECT_EQ(Metric(*o.sim, "cubes_in_ditch"), 2) << "seed " << seed;
     // The robot stands on the far side of the ditch, on the floor.
     const Vec3 robot = o.sim->space().pose(o.sim->space().Find("builder").index).position;
@@ -62,12 +64,62 @@ TEST(construction, WithoutTimeTheRunEndsUnfinished) {
   EXPECT_EQ(o.time, -1);
 }
 
-TEST(construction, BadParametersAreNamed) {
-  std::string xml;
-  {
-    std::ifstream in(COLONY_SOURCE_DIR "/experiments/construction_tower.xml");
-    xml.assign(std::istreambuf_iterator<char>(in), {});
+std::string ReadExperiment(const std::string& name) {
+  std::ifstream in(std::string(COLONY_SOURCE_DIR) + "/experiments/" + name);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(construction, NoExperimentTellsTheControllerWhereTheCubesAre) {
+  // The map only (regions, the ditch, the sites): no <params> of any
+  // construction experiment names a cube's place, in any form.
+  for (const std::string name :
+       {"construction_bridge.xml", "construction_tower.xml", "construction_remote.xml"}) {
+    const std::string xml = ReadExperiment(name);
+    ASSERT_FALSE(xml.empty()) << name;
+    std::vector<std::string> params;
+    const std::regex params_element("<params[^>]*>");
+    for (std::sregex_iterator it(xml.begin(), xml.end(), params_element), end; it != end; ++it) {
+      params.push_back(it->str());
+    }
+    ASSERT_EQ(params.size(), 2u) << name;  // the controller's and the loop functions'
+    const std::regex cube("<cube id=\"[^\"]*\"><body position=\"([^,]+),([^,]+),[^\"]*\"");
+    int cubes = 0;
+    for (std::sregex_iterator it(xml.begin(), xml.end(), cube), end; it != end; ++it, ++cubes) {
+      const double x = std::stod((*it)[1]), y = std::stod((*it)[2]);
+      const std::regex pair("(-?[0-9.]+),(-?[0-9.]+)");
+      for (const std::string& p : params) {
+        for (std::sregex_iterator n(p.begin(), p.end(), pair), e; n != e; ++n) {
+          const double px = std::stod((*n)[1]), py = std::stod((*n)[2]);
+          EXPECT_FALSE(std::abs(px - x) < 0.03 && std::abs(py - y) < 0.03)
+              << name << ": " << p << " names the place of the cube at " << x << "," << y;
+        }
+      }
+    }
+    EXPECT_GE(cubes, 2) << name;
+    for (const std::string& p : params) {
+      EXPECT_EQ(p.find("cubes="), std::string::npos) << name << ": " << p;
+    }
   }
+  // And the controller does not take them: a cubes parameter is refused.
+  std::string xml = ReadExperiment("construction_bridge.xml");
+  xml.replace(xml.find("<params task=\"bridge\""), 21,
+              "<params task=\"bridge\" cubes=\"-0.45,0.25;-0.45,-0.25\"");
+  EXPECT_TRUE(Mentions(LoadError(xml), {"<params> attribute 'cubes'", "not read by controller"}));
+}
+
+TEST(construction, RemoteCubesBridgeIsBuiltFirst) {
+  // Shortened: the first 300 s of the remote-cubes task (the whole runs are
+  // in docs/construction.md): the two local cubes fill the ditch and the
+  // robot has crossed into the region of the remote cubes.
+  const Outcome o =
+      RunExperiment("construction_remote.xml", 1, {"framework.experiment.length=300"});
+  EXPECT_FALSE(o.failed);
+  EXPECT_EQ(Metric(*o.sim, "cubes_in_ditch"), 2);
+  EXPECT_GT(PositionOf(*o.sim, "builder").x(), 0.12);
+}
+
+TEST(construction, BadParametersAreNamed) {
+  const std::string xml = ReadExperiment("construction_tower.xml");
   auto with = [&](const std::string& from, const std::string& to) {
     std::string x = xml;
     const size_t at = x.find(from);
@@ -75,16 +127,21 @@ TEST(construction, BadParametersAreNamed) {
     if (at != std::string::npos) x.replace(at, from.size(), to);
     return LoadError(x);
   };
-  const std::string two_cubes =
-      with("cubes=\"0.25,0.25;0.75,0.25;0.75,-0.25\"", "cubes=\"0.25,0.25;0.75,0.25\"");
-  EXPECT_NE(two_cubes.find("a tower takes 3 cubes, the list has 2"), std::string::npos)
-      << two_cubes;
+  const std::string bad_region =
+      with("cube_region=\"0.06,-0.55,0.95,0.55\"", "cube_region=\"0.95,-0.55,0.06,0.55\"");
+  EXPECT_NE(bad_region.find("parameter 'cube_region': '0.95,-0.55,0.06,0.55' is not "
+                            "\"x0,y0,x1,y1\" with x0 < x1 and y0 < y1"),
+            std::string::npos)
+      << bad_region;
   const std::string bad_point = with("site=\"0.5,0\"", "site=\"0.5\"");
   EXPECT_NE(bad_point.find("parameter 'site': '0.5' is not \"x,y\""), std::string::npos)
       << bad_point;
   const std::string bad_task = with("<params task=\"tower\"/>", "<params task=\"roof\"/>");
-  EXPECT_NE(bad_task.find("'roof' is not accepted; accepted: bridge, tower"), std::string::npos)
+  EXPECT_NE(bad_task.find("'roof' is not accepted; accepted: bridge, tower, remote"),
+            std::string::npos)
       << bad_task;
+  const std::string no_camera = with("<camera preset=\"marxbot_front_camera\"/>", "");
+  EXPECT_NE(no_camera.find("camera"), std::string::npos) << no_camera;
 }
 
 }  // namespace

@@ -1,35 +1,42 @@
-// construction: a marXbot with the magnetic manipulator fetches cubes one by
-// one and either drops them side by side into a ditch to make a bridge it
-// then drives over, or stacks them into a tower (EXPERIMENTS.md E3).
+// construction: a marXbot with the magnetic manipulator finds cubes with its
+// front camera, grasps them in two stages aligning with the manipulator's IR
+// sensors, and either drops them side by side into a ditch to make a bridge
+// it then drives over, or stacks them into a tower, or both: a bridge to
+// reach remote cubes, then a tower of those (EXPERIMENTS.md E3; seed 001,
+// 7.2.2-7.2.4).
 //
-// Mapping is not the point (seed 001 used SLAM and a planner): the cubes'
-// starting places, the site and the goal come from <params>, and the robot
-// navigates with its positioning sensor. The final approaches use the real
-// sensors: the front proximity sensors stop the robot against a cube or the
-// tower's base, the magnet is engaged and the manipulator sensor says when it
-// holds, and the front ground sensor finds the ditch's edge.
+// What the robot is given is the map the seed's SLAM and planner provided:
+// its own pose (positioning sensor), which region holds the cubes (a
+// rectangle), roughly where the ditch lies and where to build. Never where a
+// cube is: cubes are found in the camera image (bright tops), their place and
+// lie estimated by back-projecting the top's pixels onto the plane of the
+// cube tops.
 //
 // params:
-//   task       "bridge" or "tower"
-//   cubes      "x,y;x,y;..."  where the cubes to use lie, in the order to fetch them
-//   site       "x,y"  bridge: the middle of the bridge, on the ditch's centre
-//                     line; tower: where the tower stands
-//   heading    degrees: the direction the robot faces when it places a cube;
-//              bridge: across the ditch, from the robot's side to the far
-//              side (default 0: +x)
-//   goal       "x,y"  bridge: where to drive once the bridge is built
-//   ditch_width  m (0.07): bridge only
-//   speed      m/s (0.1)
+//   task         "bridge", "tower" or "remote" (bridge, cross, then a tower
+//                of the cubes found in the other region)
+//   cube_region  "x0,y0,x1,y1"  the rectangle where the cubes to use lie
+//                (bridge, tower; remote: the bridge's cubes)
+//   tower_region "x0,y0,x1,y1"  remote: where the tower's cubes lie
+//   site         "x,y"  bridge, remote: the middle of the bridge, on the
+//                ditch's centre line; tower: where the tower stands
+//   tower_site   "x,y"  remote: where the tower stands
+//   heading      degrees: the direction across the ditch from the robot's
+//                side (default 0: +x)
+//   goal         "x,y"  bridge, remote: where to drive once across
+//   ditch_width  m (0.07)
+//   speed        m/s (0.1)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "actuators/differential_steering/differential_steering.h"
 #include "actuators/manipulator/manipulator.h"
 #include "core/registry.h"
+#include "sensors/camera/camera.h"
 #include "sensors/ground/ground.h"
 #include "sensors/manipulator/manipulator.h"
 #include "sensors/positioning/positioning.h"
@@ -41,26 +48,40 @@ struct Point {
   double x = 0, y = 0;
 };
 
-bool ReadPoint(const std::string& text, Point& p) {
-  char extra = 0;
-  return std::sscanf(text.c_str(), "%lf,%lf%c", &p.x, &p.y, &extra) == 2 && std::isfinite(p.x) &&
-         std::isfinite(p.y);
-}
+struct Rect {
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool Contains(const Point& p) const { return p.x > x0 && p.x < x1 && p.y > y0 && p.y < y1; }
+};
 
 Point ParsePoint(const colony::Params& params, const char* key) {
   const std::string text = params.GetString(key);
   Point p;
-  if (!ReadPoint(text, p)) {
+  char extra = 0;
+  if (std::sscanf(text.c_str(), "%lf,%lf%c", &p.x, &p.y, &extra) != 2 || !std::isfinite(p.x) ||
+      !std::isfinite(p.y)) {
     throw colony::ParamError(key, text,
                              std::string("parameter '") + key + "': '" + text + "' is not \"x,y\"");
   }
   return p;
 }
 
+Rect ParseRect(const colony::Params& params, const char* key) {
+  const std::string text = params.GetString(key);
+  Rect r;
+  char extra = 0;
+  if (std::sscanf(text.c_str(), "%lf,%lf,%lf,%lf%c", &r.x0, &r.y0, &r.x1, &r.y1, &extra) != 4 ||
+      !std::isfinite(r.x0) || !std::isfinite(r.y0) || !std::isfinite(r.x1) ||
+      !std::isfinite(r.y1) || r.x0 >= r.x1 || r.y0 >= r.y1) {
+    throw colony::ParamError(key, text,
+                             std::string("parameter '") + key + "': '" + text +
+                                 "' is not \"x0,y0,x1,y1\" with x0 < x1 and y0 < y1");
+  }
+  return r;
+}
+
 // Geometry of the marXbot with its manipulator (engines/dynamics3d README):
 // the magnet face is 0.115 m ahead of the robot's axis with the magnet side
-// forwards, so a held 6 cm cube's centre is 0.145 m ahead, level with the
-// magnet's centre.
+// forwards, so a held 6 cm cube's centre is 0.145 m ahead.
 constexpr double kHeldAhead = 0.145;      // m
 constexpr double kCubeSide = 0.06;        // m
 constexpr double kGroundAhead = 0.065;    // m: the front ground sensor
@@ -70,42 +91,60 @@ constexpr double kCarryElevation = 0.10;  // m
 // the cube's face then touches the magnet's.
 constexpr double kTouching = 0.22;
 
+// The front camera as the marxbot_front_camera preset mounts it
+// (sensors/camera/README.md): level, 15.1 cm up, 8.5 cm ahead of the axis,
+// tan of the half-angles 0.671 (horizontal) and 0.503 (vertical).
+constexpr double kCameraHeight = 0.151, kCameraAhead = 0.085;
+constexpr double kTanVertical = 0.151 / 0.30;
+constexpr double kTanHorizontal = kTanVertical * 4.0 / 3.0;
+// Image processing: a cube's top, lit from above, is the brightest surface
+// (grey 231 for the 240 grey cube; the gray80 floor is 204, cube sides
+// 108-170, the ditch 20-45).
+constexpr int kBrightGrey = 218;
+constexpr int kDarkGrey = 60;
+
+// A cube seen in the image.
+struct Sighting {
+  Point center;      // estimated from the top's pixels
+  double yaw = 0;    // its lie, modulo 90 degrees (valid when `near`)
+  double range = 0;  // from the robot's axis (m)
+  bool near = false;
+};
+
+// IR alignment (seed 001, 7.2.2): rotate when the two middle IR sensors
+// differ by more than kTurnOn, at a speed proportional to the difference,
+// until they differ by less than kTurnOff; otherwise go straight.
+constexpr double kTurnOn = 0.08, kTurnOff = 0.03;
+// Both middle IR sensors' sum with a cube face about 4.4 cm ahead of the head:
+// far enough for the head to turn (its corners sweep 2.9 cm from its pivot).
+constexpr double kIrClose = 0.45;
+
 class Construction : public colony::Controller {
  public:
   void Init(const colony::Params& params) override {
     task_ = params.GetString("task");
-    if (task_ != "bridge" && task_ != "tower") {
+    if (task_ != "bridge" && task_ != "tower" && task_ != "remote") {
       throw colony::ParamError(
           "task", task_,
-          "parameter 'task': '" + task_ + "' is not accepted; accepted: bridge, tower");
+          "parameter 'task': '" + task_ + "' is not accepted; accepted: bridge, tower, remote");
     }
-    const std::string cubes = params.GetString("cubes");
-    std::stringstream list(cubes);
-    for (std::string item; std::getline(list, item, ';');) {
-      Point p;
-      if (!ReadPoint(item, p)) {
-        throw colony::ParamError(
-            "cubes", cubes, "parameter 'cubes': '" + item + "' is not \"x,y\" (list: \"x,y;x,y\")");
-      }
-      cubes_.push_back(p);
-    }
-    const size_t needed = task_ == "bridge" ? 2 : 3;
-    if (cubes_.size() != needed) {
-      throw colony::ParamError("cubes", cubes,
-                               "parameter 'cubes': a " + task_ + " takes " +
-                                   std::to_string(needed) + " cubes, the list has " +
-                                   std::to_string(cubes_.size()));
-    }
+    region_ = ParseRect(params, "cube_region");
     site_ = ParsePoint(params, "site");
     const double heading = params.GetDouble("heading", 0, -360, 360) * M_PI / 180;
     across_ = {std::cos(heading), std::sin(heading)};
-    if (task_ == "bridge") goal_ = ParsePoint(params, "goal");
+    if (task_ != "tower") goal_ = ParsePoint(params, "goal");
+    if (task_ == "remote") {
+      tower_region_ = ParseRect(params, "tower_region");
+      tower_site_ = ParsePoint(params, "tower_site");
+    }
     ditch_width_ = params.GetDouble("ditch_width", 0.07, kCubeSide, 0.2);
     speed_ = params.GetDouble("speed", 0.1, 0.01, 0.3);
+    building_tower_ = task_ == "tower";
     position_ = &GetSensor<colony::PositioningSensor>("positioning");
     proximity_ = &GetSensor<colony::ProximitySensor>("proximity");
     ground_ = &GetSensor<colony::GroundSensor>("ground");
     arm_ = &GetSensor<colony::ManipulatorSensor>("manipulator");
+    camera_ = &GetSensor<colony::CameraSensor>("camera");
     wheels_ = &GetActuator<colony::DifferentialSteering>("differential_steering");
     manipulator_ = &GetActuator<colony::ManipulatorActuator>("manipulator");
     manipulator_->SetMagnetSide();
@@ -115,55 +154,175 @@ class Construction : public colony::Controller {
   void ControlStep() override {
     x_ = position_->x();
     y_ = position_->y();
+    last_yaw_ = ticks_ > 0 ? yaw_ : position_->yaw();
     yaw_ = position_->yaw();
+    ++ticks_;
     ++ticks_in_phase_;
     switch (phase_) {
-      case Phase::kToCube: {
-        // Line up 0.3 m out from the cube's face nearest to the robot
-        // (cubes lie square to the arena), then face the cube: the magnet
-        // holds a face it meets about parallel.
-        const Point cube = cubes_[index_];
+      case Phase::kSearch: {
+        // Turn on the spot until the camera shows a cube in the region.
+        manipulator_->SetElevation(kCarryElevation);
         if (ticks_in_phase_ == 1) {
-          const double dx = x_ - cube.x, dy = y_ - cube.y;
-          face_normal_ = std::abs(dx) >= std::abs(dy) ? Point{std::copysign(1.0, dx), 0}
-                                                      : Point{0, std::copysign(1.0, dy)};
+          turned_ = 0;
+          // Cubes seen before (the resource map): to the nearest.
+          if (scanned_ && !seen_.empty()) {
+            auto nearest = std::min_element(seen_.begin(), seen_.end(), [&](auto& a, auto& b) {
+              return Distance(a) < Distance(b);
+            });
+            target_ = Sighting{*nearest, 0, Distance(*nearest), false};
+            seen_.erase(nearest);
+            Next(Phase::kToCube);
+            break;
+          }
         }
-        if (Steer({cube.x + 0.30 * face_normal_.x, cube.y + 0.30 * face_normal_.y}, 0.01))
-          Next(Phase::kFaceCube);
+        turned_ += std::abs(std::remainder(yaw_ - last_yaw_, 2 * M_PI));
+        if (ticks_in_phase_ < 3) {
+          Stop();  // a fresh image
+          break;
+        }
+        const auto seen = Look();
+        if (!scanned_) {
+          // The first look round in a region: a whole turn, remembering
+          // every cube seen, then to the nearest.
+          wheels_->SetLinearVelocity(-0.04, 0.04);
+          if (turned_ > 2 * M_PI) {
+            scanned_ = true;
+            Stop();
+            Next(Phase::kSearch);
+          }
+          break;
+        }
+        if (seen) {
+          target_ = *seen;
+          Stop();
+          Next(seen->near ? Phase::kToLineup : Phase::kToCube);
+          break;
+        }
+        wheels_->SetLinearVelocity(-0.04, 0.04);
+        // A whole turn and nothing: a cube may lie in the blind zone, too
+        // close to see; look from elsewhere in the region.
+        if (turned_ > 2 * M_PI + 0.3) {
+          Next(Phase::kWander);
+          vantage_ = NextVantage();
+        }
+        break;
+      }
+      case Phase::kWander:
+        if (Steer(vantage_, 0.03) || ticks_in_phase_ > 300) Next(Phase::kSearch);
+        break;
+      case Phase::kToCube: {
+        // To 45 cm from a cube seen far or remembered, on the robot's side
+        // (nearer, it would be in the camera's blind zone), facing it; then
+        // look again.
+        if (ticks_in_phase_ == 1) {
+          const double d = std::max(1e-9, Distance(target_.center));
+          vantage_ = {target_.center.x + 0.45 * (x_ - target_.center.x) / d,
+                      target_.center.y + 0.45 * (y_ - target_.center.y) / d};
+          reached_ = false;
+        }
+        if (!reached_) {
+          reached_ = Steer(vantage_, 0.03) || ticks_in_phase_ > 300;
+        } else if (Face(target_.center)) {
+          Next(Phase::kSearch);
+        }
+        break;
+      }
+      case Phase::kToLineup: {
+        // 32 cm out from the cube face nearest to the robot, on its normal:
+        // the magnet holds a face it meets about parallel.
+        if (ticks_in_phase_ == 1) {
+          lineup_ = Lineup(target_);
+        }
+        if (Steer(lineup_, 0.01)) Next(Phase::kFaceCube);
         break;
       }
       case Phase::kFaceCube:
-        manipulator_->SetElevation(kLowElevation);
-        manipulator_->DisengageMagnet();
-        if (Face(cubes_[index_]) && std::abs(arm_->elevation() - kLowElevation) < 0.005)
-          Next(Phase::kApproachCube);
+        if (Face(target_.center)) {
+          if (ticks_in_phase_ < 4) break;  // let the image settle
+          // Look again from here (nearer, so better); line up again if the
+          // cube is not where it was thought to be.
+          const auto seen = Look();
+          if (seen && seen->near && Distance(seen->center) < 0.45) {
+            const Point again = Lineup(*seen);
+            target_ = *seen;
+            if (std::hypot(again.x - x_, again.y - y_) > 0.03 && lineups_ < 3) {
+              ++lineups_;
+              Next(Phase::kToLineup);
+              break;
+            }
+          }
+          lineups_ = 0;
+          stage_ = 1;
+          StartIrApproach();
+        }
         break;
-      case Phase::kApproachCube: {
-        // Creep forwards, aimed at the cube, until the front sensors say its
-        // face is at the magnet's.
-        if (FrontProximity() >= kTouching) {
+      case Phase::kHeadToIr:
+        Stop();
+        manipulator_->DisengageMagnet();
+        manipulator_->SetIrSide();
+        manipulator_->SetElevation(kLowElevation);
+        if (std::abs(std::remainder(arm_->rotation() - M_PI, 2 * M_PI)) < 0.03 &&
+            std::abs(arm_->elevation() - kLowElevation) < 0.005) {
+          Next(Phase::kIrApproach);
+          start_ = {x_, y_};
+          turning_ = false;
+        }
+        break;
+      case Phase::kIrApproach: {
+        // The P controller with hysteresis on the two middle IR sensors
+        // (seed 001, 7.2.2), until the cube's face is about 3 cm ahead.
+        const auto& ir = arm_->readings();
+        const double right = ir[2].value, left = ir[3].value;
+        const double difference = left - right;
+        if (left + right >= kIrClose) {
+          Stop();
+          Next(Phase::kHeadToMagnet);
+          break;
+        }
+        if (std::abs(difference) > kTurnOn) turning_ = true;
+        if (std::abs(difference) < kTurnOff) turning_ = false;
+        if (turning_) {
+          const double turn = std::clamp(0.05 * difference, -0.02, 0.02);
+          wheels_->SetLinearVelocity(-turn, turn);
+        } else {
+          wheels_->SetLinearVelocity(0.02, 0.02);
+        }
+        // Lost it: no cube where it should be.
+        if (std::hypot(x_ - start_.x, y_ - start_.y) > 0.3) {
+          manipulator_->SetMagnetSide();
+          Next(Phase::kSearch);
+        }
+        break;
+      }
+      case Phase::kHeadToMagnet:
+        Stop();
+        manipulator_->SetMagnetSide();
+        if (std::abs(std::remainder(arm_->rotation(), 2 * M_PI)) < 0.03) Next(Phase::kCreep);
+        break;
+      case Phase::kCreep:
+        // Forwards until the front proximity sensors say the cube's face is
+        // at the magnet's; engage the magnet.
+        if (FrontProximity() >= kTouching || ticks_in_phase_ > 60) {
           Stop();
           manipulator_->EngageMagnet();
           Next(Phase::kGrab);
-          break;
+        } else {
+          wheels_->SetLinearVelocity(0.015, 0.015);
         }
-        Drive(cubes_[index_], 0.03);
-        if (Distance(cubes_[index_]) < kHeldAhead - 0.01) Next(Phase::kGrab);  // sensors missed it
         break;
-      }
       case Phase::kGrab:
         manipulator_->EngageMagnet();
         if (arm_->holding()) {
           Stop();
-          // How far ahead the held cube's centre is: where the map puts it.
-          held_ahead_ = std::clamp(Distance(cubes_[index_]), kHeldAhead, kHeldAhead + 0.015);
-          manipulator_->SetElevation(kCarryElevation);
-          Next(Phase::kLift);
+          Next(stage_ == 1 ? Phase::kWiggle : Phase::kLift);
+          if (stage_ == 2) {
+            manipulator_->SetElevation(kCarryElevation);
+            Forget(target_.center);
+          }
         } else if (arm_->magnet_engaged()) {
           // Engaged but not touching: close the last millimetres.
           wheels_->SetLinearVelocity(0.01, 0.01);
           if (ticks_in_phase_ > 40) {
-            // Give up this try: back off and approach again.
             manipulator_->DisengageMagnet();
             Next(Phase::kRetreatAndRetry);
           }
@@ -171,16 +330,53 @@ class Construction : public colony::Controller {
           Stop();
         }
         break;
+      case Phase::kWiggle: {
+        // Left, then right (seed 001, 7.2.2, steps 6-7): a cube held by a
+        // corner turns to lie flat on the magnet.
+        const double turn = 0.015;
+        if (ticks_in_phase_ <= 5) {
+          wheels_->SetLinearVelocity(-turn, turn);
+        } else if (ticks_in_phase_ <= 15) {
+          wheels_->SetLinearVelocity(turn, -turn);
+        } else if (ticks_in_phase_ <= 20) {
+          wheels_->SetLinearVelocity(-turn, turn);
+        } else {
+          Stop();
+          // Let go and back off (8), then approach again aligning on the IR
+          // sensors (9-10) and grasp again (11-13).
+          manipulator_->DisengageMagnet();
+          Next(Phase::kLetGo);
+        }
+        break;
+      }
+      case Phase::kLetGo:
+        Stop();
+        manipulator_->DisengageMagnet();
+        if (!arm_->holding() && arm_->magnet() <= 0) {
+          start_ = {x_, y_};
+          Next(Phase::kBackForRegrab);
+        }
+        break;
+      case Phase::kBackForRegrab:
+        wheels_->SetLinearVelocity(-0.02, -0.02);
+        if (std::hypot(x_ - start_.x, y_ - start_.y) >= 0.04) {
+          stage_ = 2;
+          StartIrApproach();
+        }
+        break;
       case Phase::kRetreatAndRetry:
         manipulator_->DisengageMagnet();
+        manipulator_->SetMagnetSide();
         wheels_->SetLinearVelocity(-0.05, -0.05);
-        if (ticks_in_phase_ > 20) Next(Phase::kToCube);
+        if (ticks_in_phase_ > 20) Next(Phase::kSearch);
         break;
       case Phase::kLift:
         Stop();
         if (!arm_->holding()) {
           Next(Phase::kRetreatAndRetry);  // dropped it
         } else if (std::abs(arm_->elevation() - kCarryElevation) < 0.005) {
+          if (ticks_in_phase_ < 3) break;  // an image with the cube up
+          MeasureHeld();
           Next(Phase::kBackOffHolding);
         }
         break;
@@ -203,49 +399,53 @@ class Construction : public colony::Controller {
         break;
       case Phase::kFaceSite: {
         const Point ahead{x_ + across_.x, y_ + across_.y};
-        if (Face(task_ == "bridge" ? ahead : Place())) {
+        if (Face(building_tower_ ? Place() : ahead)) {
           Next(Phase::kApproachSite);
-          if (task_ == "tower") {
+          if (building_tower_) {
             // Over the tower's top with a centimetre to spare.
             manipulator_->SetElevation(kLowElevation +
-                                       (index_ == 0 ? 0.005 : index_ * kCubeSide + 0.01));
+                                       (placed_ == 0 ? 0.005 : placed_ * kCubeSide + 0.01));
           }
         }
         break;
       }
       case Phase::kApproachSite:
-        if (task_ == "bridge") {
+        if (!building_tower_) {
           // Forwards until the front ground sensor loses the floor: the
-          // ditch's edge is then kGroundAhead ahead of the axis.
+          // ditch's edge is then kGroundAhead ahead of the axis (seed 001,
+          // 7.2.3, scans the edge with the manipulator's IR sensors; here
+          // they look level and cannot see it, the ground sensors can).
           if (ground_->readings()[0].value < 0.05f) {
             Stop();
             edge_ = {x_ + kGroundAhead * std::cos(yaw_), y_ + kGroundAhead * std::sin(yaw_)};
             Next(Phase::kAlignOverDitch);
           } else {
-            // Aimed through the place, to correct a sideways offset.
-            const Point p = Place();
+            const Point p = RobotLine();
             Drive({p.x + 0.3 * across_.x, p.y + 0.3 * across_.y}, 0.02);
           }
-        } else if (index_ == 0) {
-          // The first cube goes where the tower stands.
+        } else if (placed_ == 0) {
+          // The first cube goes where the tower stands (build1).
           if (Steer(Place(), held_ahead_)) {
             manipulator_->SetElevation(kLowElevation + 0.005);
             Next(Phase::kLower);
           }
         } else {
-          if (std::abs(arm_->elevation() - (kLowElevation + index_ * kCubeSide + 0.01)) > 0.005) {
+          // build2, build3: forwards over the tower until the front
+          // proximity sensors see its base close.
+          const double level = kLowElevation + placed_ * kCubeSide + 0.01;
+          if (std::abs(arm_->elevation() - level) > 0.005) {
             Stop();
-          } else if (FrontProximity() >= 0.35 || Distance(site_) < held_ahead_) {
+          } else if (FrontProximity() >= 0.35 || Distance(Place()) < held_ahead_) {
             Stop();
             Next(Phase::kRelease);
           } else {
-            Drive(site_, 0.02);
+            Drive(Place(), 0.02);
           }
         }
         break;
       case Phase::kAlignOverDitch: {
         // Back off until the held cube is over the ditch's middle.
-        const double want = held_ahead_ - 0.5 * ditch_width_;  // edge's distance ahead of the axis
+        const double want = held_ahead_ - 0.5 * ditch_width_;  // the edge's distance ahead
         const double now = (edge_.x - x_) * std::cos(yaw_) + (edge_.y - y_) * std::sin(yaw_);
         if (now >= want) {
           Stop();
@@ -266,29 +466,73 @@ class Construction : public colony::Controller {
       case Phase::kRelease:
         Stop();
         manipulator_->DisengageMagnet();
-        if (!arm_->holding() && arm_->magnet() <= 0) Next(Phase::kBackOff);
-        break;
-      case Phase::kBackOff:
-        wheels_->SetLinearVelocity(-speed_, -speed_);
-        if (ticks_in_phase_ > 10) {
-          manipulator_->SetElevation(kCarryElevation);
-          Stop();
-          ++index_;
-          Next(index_ < cubes_.size() ? Phase::kToCube
-                                      : (task_ == "bridge" ? Phase::kToBridge : Phase::kDone));
+        if (!arm_->holding() && arm_->magnet() <= 0) {
+          manipulator_->SetElevation(arm_->elevation() + 0.01);  // well detached
+          Next(Phase::kBackOff);
         }
         break;
-      case Phase::kToBridge: {
-        const Point start{site_.x - 0.35 * across_.x, site_.y - 0.35 * across_.y};
-        if (Steer(start, 0.01)) Next(Phase::kFaceGoal);
+      case Phase::kBackOff: {
+        // Back off; after the first cube of a bridge, far enough for the
+        // camera to see where it lies in the ditch (the second goes beside it).
+        const bool look = !building_tower_ && placed_ == 0;
+        const int back = look ? 22 : 10;
+        if (ticks_in_phase_ <= back) {
+          wheels_->SetLinearVelocity(-speed_, -speed_);
+          break;
+        }
+        Stop();
+        if (look && ticks_in_phase_ < back + 3) break;  // an image from here
+        if (look) LocateFirstBridgeCube();
+        {
+          manipulator_->SetElevation(kCarryElevation);
+          ++placed_;
+          if (building_tower_) {
+            Next(placed_ < 3 ? Phase::kSearch : Phase::kDone);
+          } else {
+            Next(placed_ < 2 ? Phase::kSearch : Phase::kToBridge);
+          }
+        }
         break;
       }
-      case Phase::kFaceGoal:
-        if (Face(goal_)) Next(Phase::kCross);
+      case Phase::kToBridge: {
+        // Straight over the middle of the two cubes (where they are, not
+        // where they were meant to be), then to the goal.
+        const Point mid = BridgeMiddle();
+        if (Steer({mid.x - 0.35 * across_.x, mid.y - 0.35 * across_.y}, 0.01)) {
+          Next(Phase::kFaceGoal);
+        }
         break;
-      case Phase::kCross:
-        if (Steer(goal_, 0.02)) Next(Phase::kDone);
+      }
+      case Phase::kFaceGoal: {
+        const Point mid = BridgeMiddle();
+        if (Face({mid.x + 0.35 * across_.x, mid.y + 0.35 * across_.y})) {
+          reached_ = false;
+          Next(Phase::kCross);
+        }
         break;
+      }
+      case Phase::kCross: {
+        const Point mid = BridgeMiddle(), over{mid.x + 0.2 * across_.x, mid.y + 0.2 * across_.y};
+        if (!reached_) {
+          reached_ = Steer(over, 0.02);
+          break;
+        }
+        if (Steer(goal_, 0.02)) {
+          if (task_ == "remote" && !building_tower_) {
+            // Across: now the tower, with the cubes of the other region.
+            building_tower_ = true;
+            placed_ = 0;
+            region_ = tower_region_;
+            scanned_ = false;
+            seen_.clear();
+            site_ = tower_site_;
+            Next(Phase::kSearch);
+          } else {
+            Next(Phase::kDone);
+          }
+        }
+        break;
+      }
       case Phase::kDone:
         Stop();
         break;
@@ -297,10 +541,19 @@ class Construction : public colony::Controller {
 
  private:
   enum class Phase {
+    kSearch,
+    kWander,
     kToCube,
+    kToLineup,
     kFaceCube,
-    kApproachCube,
+    kHeadToIr,
+    kIrApproach,
+    kHeadToMagnet,
+    kCreep,
     kGrab,
+    kWiggle,
+    kLetGo,
+    kBackForRegrab,
     kRetreatAndRetry,
     kLift,
     kBackOffHolding,
@@ -321,21 +574,296 @@ class Construction : public colony::Controller {
     phase_ = p;
     ticks_in_phase_ = 0;
   }
+  void StartIrApproach() { Next(Phase::kHeadToIr); }
+
+  // The next place to look from: the centre and the quarter points of the
+  // region in turn, skipping those within 25 cm of the robot.
+  Point NextVantage() {
+    const Rect& r = Region();
+    const double qx = 0.25 * (r.x1 - r.x0), qy = 0.25 * (r.y1 - r.y0);
+    const Point points[5] = {{r.x0 + qx, r.y0 + qy},
+                             {r.x0 + qx, r.y1 - qy},
+                             {r.x1 - qx, r.y1 - qy},
+                             {r.x1 - qx, r.y0 + qy},
+                             Center(r)};
+    for (int k = 0; k < 5; ++k) {
+      const Point p = points[vantage_index_++ % 5];
+      if (Distance(p) > 0.25) return p;
+    }
+    return Center(r);
+  }
+
+  const Rect& Region() const { return region_; }
+  static Point Center(const Rect& r) { return {0.5 * (r.x0 + r.x1), 0.5 * (r.y0 + r.y1)}; }
+
+  // The nearest cube the image shows standing in the region (and not in the
+  // tower being built), if any.
+  //
+  // Bright pixels in the lower half of the image (below the horizon) are
+  // grouped into blobs; each blob's pixels are back-projected onto the plane
+  // of the cube tops (6 cm up). A blob is a standing cube's top when it lies
+  // in the region and, near enough to judge (within 70 cm), the smallest
+  // rectangle around its back-projected pixels is about a cube's top. A cube
+  // sunk flush in the ditch (its top at the floor's level) back-projects
+  // nearer and smaller, and lies in the dark band; a top higher up (a tower)
+  // back-projects farther and larger.
+  std::optional<Sighting> Look() {
+    const int w = camera_->width(), h = camera_->height();
+    if (w < 8 || h < 8) return std::nullopt;
+    const int top_row = h / 2;
+    std::vector<int> label(static_cast<size_t>(w) * h, -1);
+    auto grey = [&](int u, int v) {
+      const colony::Color c = camera_->At(u, v);
+      return (c.r + c.g + c.b) / 3;
+    };
+    std::optional<Sighting> best;
+    std::vector<std::pair<int, int>> stack, blob;
+    int blobs = 0;
+    for (int v = h - 1; v >= top_row; --v) {
+      for (int u = 0; u < w; ++u) {
+        const size_t at = static_cast<size_t>(v) * w + u;
+        if (label[at] >= 0 || grey(u, v) < kBrightGrey) continue;
+        // Flood the blob.
+        blob.clear();
+        stack.assign(1, {u, v});
+        label[at] = blobs;
+        while (!stack.empty()) {
+          const auto [pu, pv] = stack.back();
+          stack.pop_back();
+          blob.push_back({pu, pv});
+          const int du[4] = {1, -1, 0, 0}, dv[4] = {0, 0, 1, -1};
+          for (int k = 0; k < 4; ++k) {
+            const int nu = pu + du[k], nv = pv + dv[k];
+            if (nu < 0 || nu >= w || nv < top_row || nv >= h) continue;
+            const size_t n = static_cast<size_t>(nv) * w + nu;
+            if (label[n] >= 0 || grey(nu, nv) < kBrightGrey) continue;
+            label[n] = blobs;
+            stack.push_back({nu, nv});
+          }
+        }
+        ++blobs;
+        if (blob.size() < 3) continue;
+        const auto seen = Judge(blob, w, h, grey);
+        if (seen) Remember(seen->center);
+        if (seen && (!best || seen->range < best->range)) best = seen;
+      }
+    }
+    return best;
+  }
+
+  template <typename Grey>
+  std::optional<Sighting> Judge(const std::vector<std::pair<int, int>>& blob, int w, int h,
+                                Grey grey) const {
+    // Touching the bottom of the image (the cube held, or one too close to see
+    // whole) or its sides: not judged.
+    int lowest = 0, lowest_u = 0;
+    std::vector<Point> points;
+    for (const auto& [u, v] : blob) {
+      if (u == 0 || u == w - 1) return std::nullopt;  // cut by the image's side
+      if (v > lowest) {
+        lowest = v;
+        lowest_u = u;
+      }
+      // The pixel's corners: the rectangle around them covers the top.
+      for (const double du : {0.0, 1.0}) {
+        for (const double dv : {0.0, 1.0}) {
+          const auto p = BackProject(u + du, v + dv, kCubeSide, w, h);
+          if (!p) return std::nullopt;
+          points.push_back(*p);
+        }
+      }
+    }
+    if (lowest + 2 >= h) return std::nullopt;
+    // Below a standing cube's top: its side, shaded (grey 108-183 for the
+    // light cube); below a cube sunk in the ditch, the dark ditch or the
+    // floor (204).
+    const int below = grey(lowest_u, lowest + 2);
+    if (below < 80 || below > 195) return std::nullopt;
+    Point mean;
+    for (const Point& p : points) {
+      mean.x += p.x / points.size();
+      mean.y += p.y / points.size();
+    }
+    Sighting s;
+    s.range = Distance(mean);
+    s.center = mean;
+    s.near = s.range < 0.7;
+    if (s.near) {
+      // The lie: the direction in which the rectangle around the points is
+      // smallest (1 degree steps over 90).
+      double best_area = 1e9, best_yaw = 0, best_a = 0, best_b = 0;
+      Point best_mid;
+      for (int k = 0; k < 90; ++k) {
+        const double a = k * M_PI / 180, c = std::cos(a), sn = std::sin(a);
+        double lo1 = 1e9, hi1 = -1e9, lo2 = 1e9, hi2 = -1e9;
+        for (const Point& p : points) {
+          const double q1 = c * p.x + sn * p.y, q2 = -sn * p.x + c * p.y;
+          lo1 = std::min(lo1, q1);
+          hi1 = std::max(hi1, q1);
+          lo2 = std::min(lo2, q2);
+          hi2 = std::max(hi2, q2);
+        }
+        const double area = (hi1 - lo1) * (hi2 - lo2);
+        if (area < best_area) {
+          best_area = area;
+          best_yaw = a;
+          best_a = hi1 - lo1;
+          best_b = hi2 - lo2;
+          const double m1 = 0.5 * (lo1 + hi1), m2 = 0.5 * (lo2 + hi2);
+          best_mid = {c * m1 - sn * m2, sn * m1 + c * m2};
+        }
+      }
+      // The pixels' corners lie a little outside the top's edges.
+      if (std::max(best_a, best_b) > 0.1 || std::min(best_a, best_b) < 0.04) {
+        return std::nullopt;
+      }
+      s.yaw = best_yaw;
+      s.center = best_mid;
+    }
+    if (!Region().Contains(s.center)) return std::nullopt;
+    if (building_tower_ && placed_ > 0) {
+      // The tower itself: its top, higher than a cube's, back-projects
+      // beyond it on the same line of sight.
+      if (Distance(s.center, site_) < 0.15) return std::nullopt;
+      const double to_site = Distance(site_);
+      const double apart = std::abs(std::remainder(
+          std::atan2(s.center.y - y_, s.center.x - x_) - std::atan2(site_.y - y_, site_.x - x_),
+          2 * M_PI));
+      if (s.range > to_site - 0.05 && apart < std::atan2(0.08, to_site) + 0.05) return std::nullopt;
+    }
+    return s;
+  }
+
+  // The resource map: where cubes were seen, one entry per cube.
+  void Remember(const Point& p) {
+    for (Point& q : seen_) {
+      if (Distance(p, q) < 0.08) {
+        q = p;
+        return;
+      }
+    }
+    seen_.push_back(p);
+  }
+  void Forget(const Point& p) {
+    seen_.erase(std::remove_if(seen_.begin(), seen_.end(),
+                               [&](const Point& q) { return Distance(p, q) < 0.1; }),
+                seen_.end());
+  }
+
+  // Where the held cube's centre is: how far ahead of the axis and how far
+  // to the left of it (the magnet holds a cube up to 1 cm off its face, and
+  // off its middle), from where its top shows at the bottom of the image:
+  // the far edge's row, and the middle of the bright run at the bottom row.
+  // Unknown (it does not show): kHeldAhead + 0.005 and 0.
+  void MeasureHeld() {
+    held_ahead_ = kHeldAhead + 0.005;
+    held_left_ = 0;
+    const int w = camera_->width(), h = camera_->height();
+    const double top = arm_->elevation() + 0.5 * kCubeSide;
+    auto bright = [&](int u, int v) {
+      const colony::Color c = camera_->At(u, v);
+      return (c.r + c.g + c.b) / 3 >= kBrightGrey;
+    };
+    if (h < 8 || !bright(w / 2, h - 1) || top >= kCameraHeight) return;
+    int v = h - 1;
+    while (v > h / 2 && bright(w / 2, v - 1)) --v;
+    const double down = (v - h / 2.0) / (h / 2.0) * kTanVertical;  // the edge: v's upper side
+    if (down <= 1e-6) return;
+    const double ahead = kCameraAhead + (kCameraHeight - top) / down - 0.5 * kCubeSide;
+    held_ahead_ = std::clamp(ahead, kHeldAhead - 0.005, kHeldAhead + 0.02);
+    // The bottom row's bright run through the middle, seen at the distance
+    // where that row meets the plane of the top.
+    int lo = w / 2, hi = w / 2;
+    while (lo > 0 && bright(lo - 1, h - 1)) --lo;
+    while (hi + 1 < w && bright(hi + 1, h - 1)) ++hi;
+    if (lo == 0 || hi == w - 1) return;
+    const double middle = 0.5 * (lo + hi + 1);
+    const double t = (kCameraHeight - top) / ((h - 0.5 - h / 2.0) / (h / 2.0) * kTanVertical);
+    held_left_ = std::clamp(-(middle - w / 2.0) / (w / 2.0) * kTanHorizontal * t, -0.02, 0.02);
+  }
+
+  // Where the ray through image point (u, v) meets the plane `z` up (world
+  // frame), or nothing above the horizon.
+  std::optional<Point> BackProject(double u, double v, double z, int w, int h) const {
+    const double down = (v - h / 2.0) / (h / 2.0) * kTanVertical;
+    if (down <= 1e-6) return std::nullopt;
+    const double left = -(u - w / 2.0) / (w / 2.0) * kTanHorizontal;
+    const double t = (kCameraHeight - z) / down;
+    const double fx = kCameraAhead + t, fy = t * left;
+    const double c = std::cos(yaw_), s = std::sin(yaw_);
+    return Point{x_ + c * fx - s * fy, y_ + s * fx + c * fy};
+  }
+
+  // 32 cm out from the cube's face nearest to the robot.
+  Point Lineup(const Sighting& s) const {
+    double best = -2, normal = 0;
+    for (int k = 0; k < 4; ++k) {
+      const double a = s.yaw + k * M_PI / 2;
+      const double toward = (std::cos(a) * (x_ - s.center.x) + std::sin(a) * (y_ - s.center.y)) /
+                            std::max(1e-9, Distance(s.center));
+      if (toward > best) {
+        best = toward;
+        normal = a;
+      }
+    }
+    return {s.center.x + 0.32 * std::cos(normal), s.center.y + 0.32 * std::sin(normal)};
+  }
+
   // Where the current cube goes: bridge cubes side by side along the ditch.
   Point Place() const {
-    if (task_ == "tower") return site_;
-    const double along = (index_ == 0 ? -0.5 : 0.5) * (kCubeSide + 0.008);
+    if (building_tower_) return site_;
+    const double along =
+        placed_ == 0 ? -0.5 * (kCubeSide + 0.012) : first_along_ + kCubeSide + 0.012;
     return {site_.x - along * across_.y, site_.y + along * across_.x};
+  }
+
+  // The middle of the bridge: between the first cube and the second beside it.
+  Point BridgeMiddle() const {
+    const double along = first_along_ + 0.5 * (kCubeSide + 0.012);
+    return {site_.x - along * across_.y, site_.y + along * across_.x};
+  }
+
+  // Where the first cube of the bridge lies along the ditch (from the site,
+  // along the ditch's direction), from its top in the dark band: the bright
+  // pixels whose rays meet the floor's plane within 4 cm of the ditch's
+  // centre line. Unchanged (where it was put) if it does not show.
+  void LocateFirstBridgeCube() {
+    const int w = camera_->width(), h = camera_->height();
+    double sum = 0;
+    int n = 0;
+    for (int v = h / 2 + 1; v < h; ++v) {
+      for (int u = 0; u < w; ++u) {
+        const colony::Color c = camera_->At(u, v);
+        if ((c.r + c.g + c.b) / 3 < kBrightGrey) continue;
+        const auto p = BackProject(u + 0.5, v + 0.5, 0, w, h);
+        if (!p) continue;
+        const double off = (p->x - site_.x) * across_.x + (p->y - site_.y) * across_.y;
+        if (std::abs(off) > 0.04) continue;
+        sum += -(p->x - site_.x) * across_.y + (p->y - site_.y) * across_.x;
+        ++n;
+      }
+    }
+    if (n >= 10) first_along_ = std::clamp(sum / n, -0.08, 0.02);
+  }
+  // The line the robot's axis follows to put the held cube on the bridge's
+  // place: shifted by how far off the middle the magnet holds it.
+  Point RobotLine() const {
+    const Point p = Place();
+    return {p.x + held_left_ * across_.y, p.y - held_left_ * across_.x};
   }
   // Where the robot lines up before the final approach to the site: back
   // from the place against the approach direction.
   Point Staging() const {
     const Point p = Place();
-    const double back = task_ == "bridge" ? 0.30 : 0.35;
-    return {p.x - back * across_.x, p.y - back * across_.y};
+    if (building_tower_) return {p.x - 0.35 * across_.x, p.y - 0.35 * across_.y};
+    const Point line = RobotLine();
+    return {line.x - 0.30 * across_.x, line.y - 0.30 * across_.y};
   }
 
   double Distance(const Point& p) const { return std::hypot(p.x - x_, p.y - y_); }
+  static double Distance(const Point& a, const Point& b) {
+    return std::hypot(a.x - b.x, a.y - b.y);
+  }
   double Bearing(const Point& p) const {
     return std::remainder(std::atan2(p.y - y_, p.x - x_) - yaw_, 2 * M_PI);
   }
@@ -379,32 +907,40 @@ class Construction : public colony::Controller {
   }
 
   std::string task_;
-  std::vector<Point> cubes_;
-  Point site_, goal_, across_{1, 0}, edge_, face_normal_{1, 0};
-  double held_ahead_ = kHeldAhead;
-  double ditch_width_ = 0.07, speed_ = 0.1;
+  Rect region_, tower_region_;
+  Point site_, tower_site_, goal_, across_{1, 0}, edge_, lineup_, start_;
+  Sighting target_;
+  std::vector<Point> seen_;
+  double ditch_width_ = 0.07, speed_ = 0.1, held_ahead_ = kHeldAhead, held_left_ = 0;
   double x_ = 0, y_ = 0, yaw_ = 0;
-  size_t index_ = 0;
-  Phase phase_ = Phase::kToCube;
+  bool building_tower_ = false, turning_ = false, scanned_ = false, reached_ = false;
+  int placed_ = 0, stage_ = 1, lineups_ = 0, vantage_index_ = 0, ticks_ = 0;
+  double turned_ = 0, last_yaw_ = 0, first_along_ = -0.5 * (kCubeSide + 0.012);
+  Point vantage_;
+  Phase phase_ = Phase::kSearch;
   int ticks_in_phase_ = 0;
   const colony::PositioningSensor* position_ = nullptr;
   const colony::ProximitySensor* proximity_ = nullptr;
   const colony::GroundSensor* ground_ = nullptr;
   const colony::ManipulatorSensor* arm_ = nullptr;
+  const colony::CameraSensor* camera_ = nullptr;
   colony::DifferentialSteering* wheels_ = nullptr;
   colony::ManipulatorActuator* manipulator_ = nullptr;
 };
 
 COLONY_REGISTER_CONTROLLER(
     Construction, "construction",
-    "fetch cubes with the magnetic manipulator and build a bridge over a ditch (then cross it) or "
-    "a tower",
-    {{"task", "bridge, tower", "", "what to build"},
-     {"cubes", "\"x,y;x,y...\" (m): 2 for a bridge, 3 for a tower", "", "where the cubes lie"},
-     {"site", "\"x,y\" (m)", "", "where to build: the ditch's edge (bridge) or the tower's place"},
-     {"heading", "a number in [-360, 360] (degrees)", "0",
-      "direction across the ditch, or the tower's approach"},
-     {"goal", "\"x,y\" (m)", "required when task is bridge",
+    "find cubes with the front camera, grasp them with the magnetic manipulator aligning on its "
+    "IR sensors, and build a bridge over a ditch (then cross it), a tower, or both (remote cubes)",
+    {{"task", "bridge, tower, remote", "", "what to build"},
+     {"cube_region", "\"x0,y0,x1,y1\" (m)", "", "the rectangle of the map where the cubes lie"},
+     {"tower_region", "\"x0,y0,x1,y1\" (m)", "required when task is remote",
+      "where the tower's cubes lie"},
+     {"site", "\"x,y\" (m)", "",
+      "where to build: the bridge's middle on the ditch's centre line, or the tower's place"},
+     {"tower_site", "\"x,y\" (m)", "required when task is remote", "where the tower stands"},
+     {"heading", "a number in [-360, 360] (degrees)", "0", "direction across the ditch"},
+     {"goal", "\"x,y\" (m)", "required when task is bridge or remote",
       "where to drive once across the bridge"},
      {"ditch_width", "a number in [0.06, 0.2] (m)", "0.07", "width of the ditch to bridge"},
      {"speed", "a number in [0.01, 0.3] (m/s)", "0.1", "driving speed"}});

@@ -1,6 +1,6 @@
 // construction_metrics: success and time of the construction experiments
 // (EXPERIMENTS.md E3), from the ground-truth poses of the cubes and the robot.
-//   params: task ("bridge" or "tower"), robot (id; default: the only robot),
+//   params: task ("bridge", "tower" or "remote"), robot (id; default: the only robot),
 //           tolerance (m, default 0.015: how far a cube may sit off the one
 //           below it and still count as stacked), stop ("true": end the run
 //           on success or failure; default true)
@@ -9,9 +9,14 @@
 //           on the other side of that ditch from where it started.
 //   tower:  success when three cubes stand on each other, each within
 //           `tolerance` of the one below and level with it.
+//   remote: success when both hold at once: two cubes in a ditch and a
+//           tower of three (built from the cubes across the ditch: the
+//           robot has crossed the bridge to build it).
 //   failure: the robot fell (its base more than 2 cm below the floor).
 //   metrics: success (0/1), failed (0/1), outcome_time (s of success or failure,
-//            -1 while running), cubes_in_ditch, tower_height, robot_z
+//            -1 while running), cubes_in_ditch, tower_height, robot_z,
+//            cubes_tilted (cubes more than 5 degrees off level: jammed across
+//            the ditch's edge or half on another cube)
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -28,10 +33,10 @@ class ConstructionMetrics : public LoopFunctions {
   void Init(const Params& params) override {
     Space& space = sim().space();
     task_ = params.GetString("task");
-    if (task_ != "bridge" && task_ != "tower") {
+    if (task_ != "bridge" && task_ != "tower" && task_ != "remote") {
       throw ParamError(
           "task", task_,
-          "parameter 'task': '" + task_ + "' is not accepted; accepted: bridge, tower");
+          "parameter 'task': '" + task_ + "' is not accepted; accepted: bridge, tower, remote");
     }
     tolerance_ = params.GetDouble("tolerance", 0.015, 1e-6, 1.0);
     stop_ = params.GetBool("stop", true);
@@ -41,10 +46,11 @@ class ConstructionMetrics : public LoopFunctions {
     if (space.OfType(cube_type_).empty()) {
       throw ParamError("task", task_, "parameter 'task': the arena has no <cube> to build with");
     }
-    if (task_ == "bridge") {
+    if (task_ != "tower") {
       if (space.floor().ditches().empty()) {
-        throw ParamError("task", task_,
-                         "parameter 'task': a bridge needs a <ditch> in the arena's <floor>");
+        throw ParamError(
+            "task", task_,
+            "parameter 'task': a " + task_ + " needs a <ditch> in the arena's <floor>");
       }
       const Vec3& p = space.pose(robot_.index).position;
       for (const Ditch& d : space.floor().ditches()) start_side_.push_back(SideOf(d, p.x(), p.y()));
@@ -60,7 +66,7 @@ class ConstructionMetrics : public LoopFunctions {
     const double floor_z = space.arena_min().z();
     int in_ditch = 0;
     bool bridged = false;
-    if (task_ == "bridge") {
+    if (task_ != "tower") {
       const auto& ditches = space.floor().ditches();
       for (size_t i = 0; i < ditches.size(); ++i) {
         const Ditch& d = ditches[i];
@@ -83,7 +89,10 @@ class ConstructionMetrics : public LoopFunctions {
     m.Set("success", success_ ? 1 : 0);
     m.Set("failed", failed_ ? 1 : 0);
     if (!success_ && !failed_) {
-      if (task_ == "bridge" ? bridged : height >= 3) {
+      const bool done = task_ == "bridge"  ? bridged
+                        : task_ == "tower" ? height >= 3
+                                           : in_ditch >= 2 && height >= 3;
+      if (done) {
         success_ = true;
         time_ = sim().time();
       } else if (rp.z() < floor_z - 0.02) {
@@ -97,6 +106,9 @@ class ConstructionMetrics : public LoopFunctions {
     m.Set("cubes_in_ditch", in_ditch);
     m.Set("tower_height", height);
     m.Set("robot_z", rp.z() - floor_z);
+    int tilted = 0;
+    for (uint32_t c : space.OfType(cube_type_)) tilted += Level(c) ? 0 : 1;
+    m.Set("cubes_tilted", tilted);
   }
 
   bool IsExperimentFinished() override { return stop_ && (success_ || failed_); }
@@ -172,7 +184,7 @@ class ConstructionMetrics : public LoopFunctions {
 COLONY_REGISTER_LOOP_FUNCTIONS(
     ConstructionMetrics, "construction_metrics",
     "success and time of the bridge and tower construction experiments, from ground truth",
-    {{"task", "bridge, tower", "", "what counts as success"},
+    {{"task", "bridge, tower, remote", "", "what counts as success"},
      {"robot", "an entity id", "the only robot", "the robot that must cross the bridge"},
      {"tolerance", "a number > 0 (m)", "0.015",
       "how far a cube may sit off the one below it in a tower"},

@@ -41,6 +41,7 @@ class OsmesaImageRenderer : public ImageRenderer {
     view.far_clip = camera.far_clip;
     view.width = camera.width;
     view.height = camera.height;
+    view.pixel_aspect = camera.pixel_aspect;
     return view;
   }
 

@@ -2,6 +2,8 @@
 
 #include <GL/osmesa.h>
 
+#include <algorithm>
+#include <array>
 #include <cfenv>
 
 #include "core/error.h"
@@ -131,18 +133,90 @@ void OffscreenRenderer::DrawFloor(const Space& space) {
   const Color c = textured ? Color::White() : space.floor().ColorAt(lo.x(), lo.y());
   glDisableClientState(GL_COLOR_ARRAY);
   glColor4ub(c.r, c.g, c.b, 255);
-  glBegin(GL_QUADS);
-  glTexCoord2f(0, 0);
-  glVertex3d(lo.x(), lo.y(), lo.z());
-  glTexCoord2f(1, 0);
-  glVertex3d(hi.x(), lo.y(), lo.z());
-  glTexCoord2f(1, 1);
-  glVertex3d(hi.x(), hi.y(), lo.z());
-  glTexCoord2f(0, 1);
-  glVertex3d(lo.x(), hi.y(), lo.z());
-  glEnd();
+  const auto& ditches = space.floor().ditches();
+  if (ditches.empty()) {
+    glBegin(GL_QUADS);
+    glTexCoord2f(0, 0);
+    glVertex3d(lo.x(), lo.y(), lo.z());
+    glTexCoord2f(1, 0);
+    glVertex3d(hi.x(), lo.y(), lo.z());
+    glTexCoord2f(1, 1);
+    glVertex3d(hi.x(), hi.y(), lo.z());
+    glTexCoord2f(0, 1);
+    glVertex3d(lo.x(), hi.y(), lo.z());
+    glEnd();
+  } else {
+    DrawFloorWithDitches(space);
+  }
   glEnableClientState(GL_COLOR_ARRAY);
   glDisable(GL_TEXTURE_2D);
+}
+
+// The floor with its ditches cut out: the floor in pieces around them,
+// depth-tested (pushed a little back, so what lies on the floor still shows
+// over it), then each ditch's dark bottom and walls, which the floor's near
+// edge hides where it should.
+void OffscreenRenderer::DrawFloorWithDitches(const Space& space) {
+  const Vec3& lo = space.arena_min();
+  const Vec3& hi = space.arena_max();
+  const Floor& floor = space.floor();
+  // Cut the floor along every ditch edge; keep the cells with ground.
+  std::vector<double> xs = {lo.x(), hi.x()}, ys = {lo.y(), hi.y()};
+  for (const Ditch& d : floor.ditches()) {
+    xs.push_back(std::clamp(d.min_x, lo.x(), hi.x()));
+    xs.push_back(std::clamp(d.max_x, lo.x(), hi.x()));
+    ys.push_back(std::clamp(d.min_y, lo.y(), hi.y()));
+    ys.push_back(std::clamp(d.max_y, lo.y(), hi.y()));
+  }
+  std::sort(xs.begin(), xs.end());
+  xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
+  std::sort(ys.begin(), ys.end());
+  ys.erase(std::unique(ys.begin(), ys.end()), ys.end());
+  const double sx = hi.x() - lo.x(), sy = hi.y() - lo.y();
+  auto vertex = [&](double x, double y, double z) {
+    glTexCoord2d((x - lo.x()) / sx, (y - lo.y()) / sy);
+    glVertex3d(x, y, z);
+  };
+  glEnable(GL_DEPTH_TEST);
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1, 1);
+  glBegin(GL_QUADS);
+  for (size_t i = 0; i + 1 < xs.size(); ++i) {
+    for (size_t j = 0; j + 1 < ys.size(); ++j) {
+      if (!floor.HasGroundAt(0.5 * (xs[i] + xs[i + 1]), 0.5 * (ys[j] + ys[j + 1]))) continue;
+      vertex(xs[i], ys[j], lo.z());
+      vertex(xs[i + 1], ys[j], lo.z());
+      vertex(xs[i + 1], ys[j + 1], lo.z());
+      vertex(xs[i], ys[j + 1], lo.z());
+    }
+  }
+  glEnd();
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glDisable(GL_TEXTURE_2D);
+  // Bottom and walls: dark whatever the floor's colour (little light reaches
+  // down there); the walls a little lighter than the bottom.
+  const Color bottom = kDitchBottomColor, wall = kDitchWallColor;
+  glBegin(GL_QUADS);
+  for (const Ditch& d : floor.ditches()) {
+    const double x0 = std::clamp(d.min_x, lo.x(), hi.x()), x1 = std::clamp(d.max_x, lo.x(), hi.x());
+    const double y0 = std::clamp(d.min_y, lo.y(), hi.y()), y1 = std::clamp(d.max_y, lo.y(), hi.y());
+    const double top = lo.z(), z = lo.z() - d.depth;
+    glColor4ub(bottom.r, bottom.g, bottom.b, 255);
+    glVertex3d(x0, y0, z);
+    glVertex3d(x1, y0, z);
+    glVertex3d(x1, y1, z);
+    glVertex3d(x0, y1, z);
+    glColor4ub(wall.r, wall.g, wall.b, 255);
+    for (const auto& [ax, ay, bx, by] : {std::array{x0, y0, x1, y0}, std::array{x1, y0, x1, y1},
+                                         std::array{x1, y1, x0, y1}, std::array{x0, y1, x0, y0}}) {
+      glVertex3d(ax, ay, z);
+      glVertex3d(bx, by, z);
+      glVertex3d(bx, by, top);
+      glVertex3d(ax, ay, top);
+    }
+  }
+  glEnd();
+  glDisable(GL_DEPTH_TEST);
 }
 
 // The floor image, sampled where the ground sensors read it.

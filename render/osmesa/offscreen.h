@@ -24,6 +24,11 @@ struct DrawOptions {
 
 // One OpenGL context and its buffer. Use it from one thread at a time; it
 // may move between threads (it is made current for each Draw and released).
+// A ditch's bottom and walls (render/osmesa draws them dark whatever the
+// floor's colour: a camera sees a ditch as a dark band).
+inline constexpr Color kDitchBottomColor{20, 20, 22, 255};
+inline constexpr Color kDitchWallColor{45, 45, 50, 255};
+
 class OffscreenRenderer {
  public:
   // Throws RuntimeFailure when OSMesa cannot make a context.
@@ -41,6 +46,7 @@ class OffscreenRenderer {
  private:
   void Activate(int width, int height);
   void DrawFloor(const Space& space);
+  void DrawFloorWithDitches(const Space& space);
   void UpdateFloorTexture(const Space& space);
   void ReadBack(int supersample, Image& image) const;
 

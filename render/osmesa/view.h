@@ -16,8 +16,10 @@ struct View {
   double near_clip = 0.01;  // m
   double far_clip = 100;    // m
   int width = 640, height = 480;
+  double pixel_aspect = 1;  // a pixel's width over its height (a camera binning columns: > 1)
 
-  double aspect() const { return static_cast<double>(width) / height; }
+  // The image's width over its height, in the scene's units.
+  double aspect() const { return pixel_aspect * width / height; }
   // Pixels per metre at one metre from the eye.
   double focal_length() const { return width / 2.0 / std::tan(DegToRad(fov) / 2); }
   // World to camera (OpenGL convention: the camera looks along -z).

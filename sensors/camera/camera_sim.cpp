@@ -5,6 +5,7 @@
 // one at a time (Mesa spreads each over its own threads); it is made on the
 // first update, so a camera that no controller declares costs nothing.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -16,6 +17,7 @@
 #include "core/drawing.h"
 #include "core/image_renderer.h"
 #include "core/simulation.h"
+#include "entities/marxbot/marxbot.h"
 #include "sensors/camera/camera.h"
 
 namespace colony {
@@ -25,6 +27,41 @@ constexpr double kNearClip = 0.01;           // m
 constexpr double kDefaultMountHeight = 0.1;  // m above the robot's base
 
 class CameraSystem;
+
+// Defaults of a camera configuration.
+struct Preset {
+  int64_t width = 384, height = 128;
+  double pixel_aspect = 1, fov = 45, range = 4;
+  std::optional<Vec3> position;  // none: the front of the body, kDefaultMountHeight up
+  std::array<double, 3> orientation{0, 0, 0};
+};
+
+// The marXbot's front camera as the seeds used it (ROBOTS.md; seed 000,
+// 5.2.4): the 2048 x 1536 chip binned to 512 x 384 with a normal (4:3)
+// view, then each 4 columns averaged: 128 wide x 384 high, each pixel 4
+// times as wide as high. It looks level from the top of the robot's front
+// (objects of interest lie below it: the seed processed the lower half).
+// The sources give neither the lens nor the mount: we put the lens 15.1 cm
+// up (just above the top plate) at the body's front (8.5 cm ahead of the
+// axis, clear of the LED ring), and choose the field of view so that the
+// lowest row meets the floor 30 cm ahead of the body's front, the near end
+// of the seed's camera coverage: tan(vertical half-angle) = 0.151 / 0.30 =
+// 0.503, horizontal half-angle atan(4/3 x 0.503) = 33.9 degrees.
+constexpr double kMarxbotCameraHeight = 0.151;                // m
+constexpr double kMarxbotCameraAhead = marxbot::kBodyRadius;  // m
+constexpr double kMarxbotBlindTo = 0.30;                      // m ahead of the body's front
+Preset MarxbotFrontCamera() {
+  Preset p;
+  p.width = 128;
+  p.height = 384;
+  p.pixel_aspect = 4;
+  const double tan_vertical =
+      kMarxbotCameraHeight / (marxbot::kBodyRadius + kMarxbotBlindTo - kMarxbotCameraAhead);
+  p.fov = RadToDeg(2 * std::atan(tan_vertical * 512.0 / 384.0));
+  p.range = 4;
+  p.position = Vec3(kMarxbotCameraAhead, 0, kMarxbotCameraHeight);
+  return p;
+}
 
 struct CameraInstance : CameraSensor, InstanceBase, FieldOfView {
   using Interface = CameraSensor;
@@ -44,16 +81,27 @@ class CameraSystem : public SensorSystem {
  public:
   void Configure(const ConfigNode& node) override {
     if (!HaveImageRenderer()) node.ElementError(NoImageRendererMessage("the camera sensor"));
-    width_ = static_cast<int>(node.GetInt("width", 384, 1, 4096));
-    height_ = static_cast<int>(node.GetInt("height", 128, 1, 4096));
-    fov_ = node.GetDouble("fov", 45, Range{0, 179, true});
-    range_ = node.GetDouble("range", 4, Range::Positive());
+    // A preset gives the defaults; attributes given override them.
+    const bool marxbot = node.GetChoice("preset", {"none", "marxbot_front_camera"}, "none") ==
+                         "marxbot_front_camera";
+    const Preset d = marxbot ? MarxbotFrontCamera() : Preset{};
+    width_ = static_cast<int>(node.GetInt("width", d.width, 1, 4096));
+    height_ = static_cast<int>(node.GetInt("height", d.height, 1, 4096));
+    pixel_aspect_ = node.GetDouble("pixel_aspect", d.pixel_aspect, Range{0, 16, true});
+    fov_ = node.GetDouble("fov", d.fov, Range{0, 179, true});
+    range_ = node.GetDouble("range", d.range, Range::Positive());
     if (node.Has("position")) {
       const auto p = node.GetTriple("position", {0, 0, 0});
       position_ = Vec3(p[0], p[1], p[2]);
+    } else {
+      position_ = d.position;
     }
     anchor_ = node.GetString("anchor", "");
-    const auto o = node.GetTriple("orientation", {0, 0, 0});
+    if (marxbot && !anchor_.empty()) {
+      node.Error("anchor", anchor_,
+                 "the marxbot_front_camera preset sits on the marXbot's body; it takes no anchor");
+    }
+    const auto o = node.GetTriple("orientation", d.orientation);
     orientation_ = FromEulerZYX(DegToRad(o[0]), DegToRad(o[1]), DegToRad(o[2]));
     noise_ = NoiseModel::Read(node);
   }
@@ -107,6 +155,7 @@ class CameraSystem : public SensorSystem {
     view.far_clip = range_;
     view.width = width_;
     view.height = height_;
+    view.pixel_aspect = pixel_aspect_;
     return view;
   }
 
@@ -121,7 +170,7 @@ class CameraSystem : public SensorSystem {
   }
 
   int width_ = 384, height_ = 128;
-  double fov_ = 45, range_ = 4;
+  double pixel_aspect_ = 1, fov_ = 45, range_ = 4;
   std::optional<Vec3> position_;
   Quat orientation_ = Quat::Identity();
   std::string anchor_;  // "": the robot's body
@@ -134,8 +183,15 @@ class CameraSystem : public SensorSystem {
 
 std::vector<AttributeDoc> CameraAttributes() {
   std::vector<AttributeDoc> a = {
+      {"preset", "none, marxbot_front_camera", "none",
+       "a configuration whose values are the defaults: marxbot_front_camera is 128 x 384, "
+       "pixel_aspect 4, fov 67.7, at the top of the body's front looking level, the floor seen "
+       "from 30 cm "
+       "ahead of the body"},
       {"width", "a whole number in [1, 4096] (pixels)", "384", "image width"},
       {"height", "a whole number in [1, 4096] (pixels)", "128", "image height"},
+      {"pixel_aspect", "a number in (0, 16]", "1",
+       "a pixel's width over its height (a camera that averages columns: > 1)"},
       {"fov", "a number in (0, 179] (degrees)", "45", "horizontal field of view"},
       {"range", "a number > 0 (m)", "4", "farthest distance seen (beyond: black)"},
       {"position", "\"x,y,z\" (m, robot frame)", "the body's front, 0.1 m up",
@@ -167,7 +223,7 @@ void CameraInstance::DrawFieldOfView(const Simulation&, DrawList& list) const {
   const CameraView view = system->ViewOf(*this);
   // Camera frame: x along the optical axis, y left, z up; fov is horizontal.
   const double half_width = view.far_clip * std::tan(DegToRad(view.fov) / 2);
-  const double half_height = half_width * view.height / view.width;
+  const double half_height = half_width * view.height / (view.width * view.pixel_aspect);
   Vec3 corners[4];
   const double sides[4][2] = {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}};
   for (int k = 0; k < 4; ++k) {

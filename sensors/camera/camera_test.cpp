@@ -121,6 +121,65 @@ TEST_F(Camera, PitchTiltsTheCameraDown) {
   EXPECT_EQ(floor, Color::White()) << Text(floor);
 }
 
+TEST_F(Camera, SeesADitchAsADarkBandWhereTheFloorWouldBeWhite) {
+  // Tilted 30 degrees down, the image centre looks at the floor 17 cm ahead:
+  // (26 cm ahead of the robot's centre): white on a flat floor, dark where
+  // a ditch 7 cm wide crosses there.
+  const std::string robot = Robot("r", "0,0,0");
+  const std::string ditch =
+      "<floor color=\"white\"><ditch center=\"0.26,0\" size=\"0.07,4\" "
+      "depth=\"0.06\"/></floor>";
+  auto flat = LoadXml(Experiment(robot, Controllers("orientation=\"0,30,0\"")));
+  auto cut = LoadXml(Experiment(ditch + robot, Controllers("orientation=\"0,30,0\"")));
+  flat->Step();
+  cut->Step();
+  const CameraSensor& seen = Seen(*cut, "r");
+  for (int x : {10, 192, 373}) {
+    EXPECT_EQ(Seen(*flat, "r").At(x, 64), Color::White()) << x;
+    const Color c = seen.At(x, 64);
+    EXPECT_LT(c.r + c.g + c.b, 3 * 60) << x << ": " << Text(c);
+  }
+  // Nearer (lower in the image) and farther (higher): the floor, white.
+  EXPECT_EQ(seen.At(192, 127), Color::White()) << Text(seen.At(192, 127));
+  EXPECT_EQ(seen.At(192, 0), Color::White()) << Text(seen.At(192, 0));
+}
+
+TEST_F(Camera, TheMarxbotFrontCameraPresetIs128By384AndBlindUpTo30CmAheadOfTheBody) {
+  // The body's front is 8.5 cm from the robot's axis: the floor from 38.5 cm
+  // on is seen, at the lowest row first. A ditch 2 cm wide 41 cm ahead shows
+  // as a dark band low in the image; one 35 cm ahead, in the blind zone, not
+  // at all.
+  auto bottom_dark_rows = [](const std::string& centre_x) {
+    auto sim = LoadXml(Experiment("<floor color=\"white\"><ditch center=\"" + centre_x +
+                                      ",0\" size=\"0.02,4\" depth=\"0.06\"/></floor>" +
+                                      Robot("r", "0,0,0"),
+                                  Controllers("preset=\"marxbot_front_camera\"")));
+    sim->Step();
+    const CameraSensor& image = Seen(*sim, "r");
+    EXPECT_EQ(image.width(), 128);
+    EXPECT_EQ(image.height(), 384);
+    int dark = 0;
+    for (int y = 3 * image.height() / 4; y < image.height(); ++y) {  // the floor within 60 cm
+      const Color c = image.At(image.width() / 2, y);
+      dark += c.r + c.g + c.b < 3 * 60;
+    }
+    return dark;
+  };
+  EXPECT_GT(bottom_dark_rows("0.41"), 5);
+  EXPECT_EQ(bottom_dark_rows("0.35"), 0);
+  // The upper half looks above the horizon: beyond the range, black.
+  auto sim = LoadXml(
+      Experiment(Robot("r", "0,0,0"), Controllers("preset=\"marxbot_front_camera\" range=\"2\"")));
+  sim->Step();
+  EXPECT_EQ(Seen(*sim, "r").At(64, 10), Color::Black());
+  // Attributes given override the preset's.
+  auto small = LoadXml(
+      Experiment(Robot("r", "0,0,0"), Controllers("preset=\"marxbot_front_camera\" width=\"32\"")));
+  small->Step();
+  EXPECT_EQ(Seen(*small, "r").width(), 32);
+  EXPECT_EQ(Seen(*small, "r").height(), 384);
+}
+
 TEST_F(Camera, ResolutionFieldOfViewAndRangeFromXml) {
   // A 20 degree view misses a cylinder 30 degrees off the axis that a 90
   // degree view shows; beyond the range, nothing is seen.
@@ -188,6 +247,10 @@ TEST(CameraErrors, BadSettingsAreRejected) {
   EXPECT_NE(range.find("attribute 'range'"), std::string::npos) << range;
   const std::string drop = LoadError(Experiment(robot, Controllers("drop_probability=\"0.5\"")));
   EXPECT_NE(drop.find("attribute 'drop_probability'"), std::string::npos) << drop;
+  const std::string preset = LoadError(Experiment(robot, Controllers("preset=\"marxbot\"")));
+  EXPECT_TRUE(Mentions(preset, {"attribute 'preset'", "marxbot_front_camera"})) << preset;
+  const std::string aspect = LoadError(Experiment(robot, Controllers("pixel_aspect=\"0\"")));
+  EXPECT_NE(aspect.find("attribute 'pixel_aspect'"), std::string::npos) << aspect;
 }
 
 TEST(CameraErrors, ABuildWithoutAnImageRendererRefusesTheCameraNamingTheOption) {
