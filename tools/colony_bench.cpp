@@ -244,8 +244,8 @@ int Bench(const Options& o) {
           "load %.3f s (%.3f CPU s), "
           "peak %.0f B/robot, load growth %.0f B/robot%s, hash %s\n",
           scene.c_str(), k + 1, r.robots, static_cast<unsigned long long>(r.ticks), r.steps_per_s,
-          r.step_s, r.step_s > 0 ? r.cpu_s / r.step_s : 0.0, r.load_s, r.load_cpu_s, r.bytes_per_robot,
-          r.load_bytes_per_robot, r.peak_reset ? "" : " (hwm not reset)",
+          r.step_s, r.step_s > 0 ? r.cpu_s / r.step_s : 0.0, r.load_s, r.load_cpu_s,
+          r.bytes_per_robot, r.load_bytes_per_robot, r.peak_reset ? "" : " (hwm not reset)",
           colony::StateHasher::Hex(r.hash).c_str());
       std::fflush(stdout);
     }
@@ -286,9 +286,9 @@ int Bench(const Options& o) {
         "act_pct=%.1f physics_pct=%.1f media_pct=%.1f loop_functions_pct=%.1f "
         "sense_control_pct=%.1f\n",
         scene.c_str(), first.robots, first.threads, static_cast<unsigned long long>(first.ticks),
-        Median(sps), Median(load), Median(load_cpu), Median(teardown), Median(bpr), Median(lbpr), Median(cpu_ns),
-        colony::StateHasher::Hex(first.hash).c_str(), Median(share[0]), Median(share[1]),
-        Median(share[2]), Median(share[3]), Median(share[4]));
+        Median(sps), Median(load), Median(load_cpu), Median(teardown), Median(bpr), Median(lbpr),
+        Median(cpu_ns), colony::StateHasher::Hex(first.hash).c_str(), Median(share[0]),
+        Median(share[1]), Median(share[2]), Median(share[3]), Median(share[4]));
     if (o.max_bytes_per_robot > 0 && Median(bpr) > static_cast<double>(o.max_bytes_per_robot)) {
       std::printf("OVER BUDGET %s: %.0f bytes per robot at the peak, more than the %lld allowed\n",
                   scene.c_str(), Median(bpr), o.max_bytes_per_robot);
