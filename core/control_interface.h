@@ -246,7 +246,12 @@ class Controller {
     return devices_.run_folder ? *devices_.run_folder : none;
   }
   // This robot's own random stream (deterministic whatever the thread count).
-  RandomStream& rng() { return rng_; }
+  // Made on the first call: most controllers never draw, and a stream is 32
+  // bytes of every robot.
+  RandomStream& rng() {
+    if (!rng_) rng_ = std::make_unique<RandomStream>(rng_seed_);
+    return *rng_;
+  }
 
   // The sensor declared with element name `label` in <sensors>. Throws
   // std::logic_error when it is not declared or is not a T.
@@ -267,7 +272,14 @@ class Controller {
   // For the host: binds the devices and the random stream before Init.
   void Bind(const DeviceTable& devices, const RandomStream& rng) {
     devices_ = devices;
-    rng_ = rng;
+    rng_ = std::make_unique<RandomStream>(rng);
+  }
+  // The same, with the seed of the stream (RandomStream::SeedFor): the
+  // stream is made when the controller first draws.
+  void Bind(const DeviceTable& devices, uint64_t rng_seed) {
+    devices_ = devices;
+    rng_seed_ = rng_seed;
+    rng_.reset();
   }
 
  private:
@@ -286,7 +298,8 @@ class Controller {
   }
 
   DeviceTable devices_;
-  RandomStream rng_;
+  uint64_t rng_seed_ = 0;
+  std::unique_ptr<RandomStream> rng_;  // null until the first draw (rng())
 };
 
 }  // namespace colony

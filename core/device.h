@@ -5,8 +5,12 @@
 // robot. Each instance is the control-interface object the controller reads.
 #pragma once
 
+#include <algorithm>
 #include <deque>
+#include <memory>
+#include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/config.h"
@@ -29,10 +33,38 @@ class AttachError : public std::runtime_error {
 };
 
 // Bookkeeping every instance carries besides its control interface.
-struct InstanceBase {
+// A device that never draws random numbers (or draws them only with noise
+// configured, keeping its streams aside) derives from this one and spares
+// each robot a 32-byte stream.
+struct InstanceBaseWithoutStream {
   EntityHandle robot;
   bool alive = true;
+};
+struct InstanceBase : InstanceBaseWithoutStream {
   RandomStream rng;
+};
+
+// Small arrays of many robots (device tables, readings) carved from shared
+// blocks, with stable addresses: a heap array per robot costs malloc's
+// header and rounding, and a call to malloc at load.
+template <class T>
+class ArrayBlocks {
+ public:
+  std::span<T> Take(size_t n) {
+    if (n == 0) return {};
+    if (blocks_.empty() || used_ + n > size_) {
+      size_ = std::max<size_t>(n, kBlock);
+      blocks_.push_back(std::make_unique<T[]>(size_));
+      used_ = 0;
+    }
+    used_ += n;
+    return {blocks_.back().get() + used_ - n, n};
+  }
+
+ private:
+  static constexpr size_t kBlock = 4096;
+  std::vector<std::unique_ptr<T[]>> blocks_;
+  size_t used_ = 0, size_ = 0;
 };
 
 // Instances with stable addresses (controllers keep pointers to them).
@@ -42,7 +74,11 @@ class InstanceStore {
   Instance& Add(EntityHandle robot, const RandomStream& rng) {
     Instance& item = items_.emplace_back();
     item.robot = robot;
-    item.rng = rng;
+    if constexpr (std::is_base_of_v<InstanceBase, Instance>) {
+      item.rng = rng;
+    } else {
+      (void)rng;
+    }
     return item;
   }
   void Remove(const void* interface) {

@@ -42,9 +42,15 @@ class RandomStream {
   // bytes in order, so the stream is the same.
   static RandomStream For(uint64_t experiment_seed, std::string_view owner,
                           std::string_view purpose, std::string_view purpose_tail) {
+    return RandomStream(SeedFor(experiment_seed, owner, purpose, purpose_tail));
+  }
+  // The seed of that stream: RandomStream(SeedFor(...)) is For(...). Eight
+  // bytes to keep instead of the stream's 32 until the owner first draws.
+  static uint64_t SeedFor(uint64_t experiment_seed, std::string_view owner,
+                          std::string_view purpose, std::string_view purpose_tail = "") {
     uint64_t h = HashString(owner, experiment_seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull);
     h = HashString("/", h);
-    return RandomStream(HashString(purpose_tail, HashString(purpose, h)));
+    return HashString(purpose_tail, HashString(purpose, h));
   }
 
   uint64_t NextU64() {

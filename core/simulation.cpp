@@ -102,8 +102,8 @@ void Simulation::AttachController(Robot& robot, int line) {
   config.library = entry->info.library.empty() ? nullptr : entry->info.library.c_str();
   robot.controller = entry->create();
   const size_t ns = config.sensors.size(), na = config.actuators.size();
-  robot.sensors = sensor_tables_.Take(ns);
-  robot.actuators = actuator_tables_.Take(na);
+  robot.sensors = sensor_tables_.Take(ns).data();
+  robot.actuators = actuator_tables_.Take(na).data();
   const std::string& type = space_.TypeLabel(space_.type(robot.entity.index));
   bool attached = true;
   // What the devices need of the robot and its engine, checked here for
@@ -150,7 +150,7 @@ void Simulation::AttachController(Robot& robot, int line) {
   table.actuator_names = &config.actuator_names;
   table.actuators = robot.actuators;
   table.run_folder = &run_folder_;
-  robot.controller->Bind(table, RandomStream::For(seed_, id, "controller"));
+  robot.controller->Bind(table, RandomStream::SeedFor(seed_, id, "controller"));
   robot.timing.reset();
   if (config.step_period > 0 || config.any_bus) robot.timing = std::make_unique<Robot::Timing>();
   if (config.step_period > 0) {

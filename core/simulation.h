@@ -324,9 +324,9 @@ class Simulation {
   ConfigNode Node(const ConfigNode& element) const {
     return ConfigNode(element.element(), context_.get());
   }
-  // Checks `desc` (see AddEntity) and adds it. `placed`: while building,
-  // the footprints placed so far, which it must fit among (and joins);
-  // otherwise `check` says whether its place is checked against the space.
+  // Checks `desc` (see AddEntity) and adds it. `check` says whether its
+  // place is checked: against `placed` while building (the footprints placed
+  // so far, which it joins), otherwise against the space.
   // Records problems and returns an invalid handle.
   EntityHandle Add(const EntityDesc& desc, PlacementCheck check, PlacementIndex* placed);
   // Why `init` cannot stand where it is among the entities now in the space, or "".
@@ -456,27 +456,8 @@ class Simulation {
   // Robots' device tables (the pointers to each robot's sensor and actuator
   // instances), carved from shared blocks: a heap array per robot and table
   // cost 32 bytes each, for one or two pointers.
-  template <class T>
-  class TableBlocks {
-   public:
-    T* Take(size_t n) {
-      if (n == 0) return nullptr;
-      if (blocks_.empty() || used_ + n > size_) {
-        size_ = std::max<size_t>(n, kBlock);
-        blocks_.push_back(std::make_unique<T[]>(size_));
-        used_ = 0;
-      }
-      used_ += n;
-      return blocks_.back().get() + used_ - n;
-    }
-
-   private:
-    static constexpr size_t kBlock = 4096;
-    std::vector<std::unique_ptr<T[]>> blocks_;
-    size_t used_ = 0, size_ = 0;
-  };
-  TableBlocks<Sensor*> sensor_tables_;
-  TableBlocks<Actuator*> actuator_tables_;
+  ArrayBlocks<Sensor*> sensor_tables_;
+  ArrayBlocks<Actuator*> actuator_tables_;
   std::vector<int32_t> robot_of_;  // per space slot, -1 if none
   size_t robot_count_ = 0;
   std::vector<std::unique_ptr<LoopFunctions>> loop_functions_;

@@ -476,8 +476,10 @@ void Simulation::BuildArena(const ArenaSpec& arena) {
   auto problem = [&](const EntityDesc& desc) {
     return PlacementProblem(desc.init, space_, placed);
   };
+  // A <distribute> block adds what `problem` found room for: checking again
+  // would cast the same footprint against the same neighbours.
   auto add = [&](const EntityDesc& desc) {
-    return Add(desc, PlacementCheck::kClear, &placed).valid();
+    return Add(desc, PlacementCheck::kNone, &placed).valid();
   };
   for (const auto& item : arena.contents) {
     if (const auto* desc = std::get_if<EntityDesc>(&item)) {
@@ -596,7 +598,7 @@ EntityHandle Simulation::Add(const EntityDesc& desc, PlacementCheck check, Place
     EntityError(desc, "id", id, "duplicate entity id '" + id + "'" + where);
     return {};
   }
-  if (placed || check == PlacementCheck::kClear) {
+  if (check == PlacementCheck::kClear) {
     const std::string problem =
         placed ? PlacementProblem(desc.init, space_, *placed) : PlaceProblemNow(desc.init);
     if (!problem.empty()) {

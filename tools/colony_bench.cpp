@@ -8,8 +8,9 @@
 // the file's length) and measures
 //   - robot-steps per second: robots x ticks / seconds spent inside
 //     Simulation::Step (loading and set-up excluded);
-//   - load seconds (Simulation::Load: parsing, placement, plugin set-up) and
-//     teardown seconds (deleting the simulation);
+//   - load seconds (Simulation::Load: parsing, placement, plugin set-up), with
+//     the CPU seconds the process spent in it (steadier than wall time on a
+//     shared machine), and teardown seconds (deleting the simulation);
 //   - memory per robot: (peak resident set during load + run - resident set
 //     before loading) / robots, in bytes; and the resident set growth during
 //     the load alone.
@@ -31,7 +32,8 @@
 // Prints one line per repetition, the medians, and one machine-readable line
 // per scene:
 //   RESULT scene=NAME robots=N threads=T ticks=K steps_per_s_median=...
-//          load_s_median=... teardown_s_median=... bytes_per_robot=... load_bytes_per_robot=...
+//          load_s_median=... load_cpu_s_median=... teardown_s_median=... bytes_per_robot=...
+//          load_bytes_per_robot=...
 //          cpu_ns_per_robot_step=... state_hash=... act_pct=... physics_pct=...
 //          media_pct=... loop_functions_pct=... sense_control_pct=...
 // (threads as resolved: 0 and 1 both mean the calling thread only, shown as 1; the state
@@ -166,7 +168,7 @@ bool ParseArgs(const std::vector<std::string>& args, Options& o) {
 }
 
 struct Repetition {
-  double load_s = 0, step_s = 0, steps_per_s = 0, teardown_s = 0;
+  double load_s = 0, load_cpu_s = 0, step_s = 0, steps_per_s = 0, teardown_s = 0;
   double cpu_s = 0;  // process CPU time over the stepping loop (all threads)
   double bytes_per_robot = 0, load_bytes_per_robot = 0;
   size_t robots = 0;
@@ -190,9 +192,11 @@ Repetition RunOnce(const Options& o, const std::string& file, bool first) {
   eo.file = file;
   eo.overrides = o.overrides;
   eo.threads = o.threads;
+  const double load_cpu0 = CpuSeconds();
   const auto t0 = Clock::now();
   auto sim = colony::Simulation::Load(eo);
   r.load_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  r.load_cpu_s = CpuSeconds() - load_cpu0;
   const long long rss_loaded = CurrentBytes();
 
   const uint64_t ticks = o.ticks > 0 ? static_cast<uint64_t>(o.ticks) : sim->length_ticks();
@@ -237,20 +241,21 @@ int Bench(const Options& o) {
       reps.push_back(r);
       std::printf(
           "%s rep %d: %zu robots, %llu ticks, %.0f robot-steps/s (step %.3f s, %.2f cores busy), "
-          "load %.3f s, "
+          "load %.3f s (%.3f CPU s), "
           "peak %.0f B/robot, load growth %.0f B/robot%s, hash %s\n",
           scene.c_str(), k + 1, r.robots, static_cast<unsigned long long>(r.ticks), r.steps_per_s,
-          r.step_s, r.step_s > 0 ? r.cpu_s / r.step_s : 0.0, r.load_s, r.bytes_per_robot,
-          r.load_bytes_per_robot, r.peak_reset ? "" : " (hwm not reset)",
+          r.step_s, r.step_s > 0 ? r.cpu_s / r.step_s : 0.0, r.load_s, r.load_cpu_s,
+          r.bytes_per_robot, r.load_bytes_per_robot, r.peak_reset ? "" : " (hwm not reset)",
           colony::StateHasher::Hex(r.hash).c_str());
       std::fflush(stdout);
     }
-    std::vector<double> sps, load, teardown, bpr, lbpr, cpu_ns;
+    std::vector<double> sps, load, load_cpu, teardown, bpr, lbpr, cpu_ns;
     bool same_hash = true;
     for (const auto& r : reps) {
       sps.push_back(r.steps_per_s);
       cpu_ns.push_back(r.steps_per_s > 0 ? 1e9 * r.cpu_s / (r.step_s * r.steps_per_s) : 0.0);
       load.push_back(r.load_s);
+      load_cpu.push_back(r.load_cpu_s);
       teardown.push_back(r.teardown_s);
       if (r.peak_reset) bpr.push_back(r.bytes_per_robot);
       lbpr.push_back(r.load_bytes_per_robot);
@@ -276,14 +281,14 @@ int Bench(const Options& o) {
         same_hash ? "" : " (WARNING: state hashes differ between repetitions)");
     std::printf(
         "RESULT scene=%s robots=%zu threads=%d ticks=%llu steps_per_s_median=%.0f "
-        "load_s_median=%.3f teardown_s_median=%.3f "
+        "load_s_median=%.3f load_cpu_s_median=%.3f teardown_s_median=%.3f "
         "bytes_per_robot=%.0f load_bytes_per_robot=%.0f cpu_ns_per_robot_step=%.0f state_hash=%s "
         "act_pct=%.1f physics_pct=%.1f media_pct=%.1f loop_functions_pct=%.1f "
         "sense_control_pct=%.1f\n",
         scene.c_str(), first.robots, first.threads, static_cast<unsigned long long>(first.ticks),
-        Median(sps), Median(load), Median(teardown), Median(bpr), Median(lbpr), Median(cpu_ns),
-        colony::StateHasher::Hex(first.hash).c_str(), Median(share[0]), Median(share[1]),
-        Median(share[2]), Median(share[3]), Median(share[4]));
+        Median(sps), Median(load), Median(load_cpu), Median(teardown), Median(bpr), Median(lbpr),
+        Median(cpu_ns), colony::StateHasher::Hex(first.hash).c_str(), Median(share[0]),
+        Median(share[1]), Median(share[2]), Median(share[3]), Median(share[4]));
     if (o.max_bytes_per_robot > 0 && Median(bpr) > static_cast<double>(o.max_bytes_per_robot)) {
       std::printf("OVER BUDGET %s: %.0f bytes per robot at the peak, more than the %lld allowed\n",
                   scene.c_str(), Median(bpr), o.max_bytes_per_robot);

@@ -11,9 +11,11 @@ For each scene it runs `colony_bench SCENE --repeat 1 --ticks T --threads N`
 of the "before" build and of the "after" build in turn, K times (interleaved,
 so both see the same load from other programs), and reports the median of
 each figure, the state hashes, and the load average seen before the runs.
+Load time is given as wall-clock seconds and as the CPU seconds the process
+spent loading (steadier when other programs share the cores).
 "before" is a build of an earlier commit (e.g. `git archive COMMIT | tar -x
 -C DIR`, built the same way); colony_bench of that build may not report the
-teardown time (shown as -)."""
+teardown time or the load's CPU time (shown as -)."""
 import argparse
 import datetime
 import os
@@ -50,11 +52,12 @@ def main():
     p.add_argument("--threads", type=int, default=2)
     a = p.parse_args()
     scenes = a.scene or ["experiments/benchmarks/diffusion_10000.xml",
+                         "experiments/benchmarks/diffusion_100000.xml",
                          "experiments/benchmarks/diffusion_1000000.xml"]
     lines = ["",
-             "| scene | build | load s | teardown s | bytes/robot (peak) | bytes/robot (after load) "
+             "| scene | build | load s | load CPU s | teardown s | bytes/robot (peak) | bytes/robot (after load) "
              "| CPU ns per robot-step | robot-steps/s | state hash |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|"]
     loads = []
     for scene in scenes:
         runs = {"before": [], "after": []}
@@ -66,8 +69,10 @@ def main():
             r = runs[name]
             hashes = sorted({x["state_hash"] for x in r})
             teardown = median(r, "teardown_s_median")
-            lines.append("| %s | %s | %.2f | %s | %s | %s | %s | %s | `%s` |" % (
+            load_cpu = median(r, "load_cpu_s_median")
+            lines.append("| %s | %s | %.2f | %s | %s | %s | %s | %s | %s | `%s` |" % (
                 r[0]["scene"], name, median(r, "load_s_median"),
+                "-" if load_cpu is None else "%.2f" % load_cpu,
                 "-" if teardown is None else "%.2f" % teardown,
                 format(round(median(r, "bytes_per_robot")), ","),
                 format(round(median(r, "load_bytes_per_robot")), ","),

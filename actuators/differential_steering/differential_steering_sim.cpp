@@ -16,8 +16,8 @@
 namespace colony {
 namespace {
 
-struct SteeringInstance : DifferentialSteering, InstanceBase {
-  using Interface = DifferentialSteering;
+struct SteeringInstance : DifferentialSteering, InstanceBaseWithoutStream {
+  using Interface = DifferentialSteering;  // draws no random numbers: no stream
   bool warned_speed = false, warned_not_finite = false;
 };
 

@@ -10,6 +10,7 @@
 // the active sensors are on.
 #include <array>
 #include <cmath>
+#include <span>
 #include <string>
 
 #include "actuators/differential_steering/differential_steering.h"
@@ -33,8 +34,8 @@ class Avoid : public colony::Controller {
     // The sensors' directions are constants of the robot (read once here,
     // not polled): kept as a pointer to the ring's list, whose values are
     // never read through it.
-    ring_ = &proximity_->readings();
-    if (ring_->size() > active_.size())
+    ring_ = proximity_->readings();
+    if (ring_.size() > active_.size())
       throw std::invalid_argument("avoid handles rings of up to 24 sensors");
     if (events_) {
       colony::ThresholdWatch watch;  // every reading, both ways
@@ -63,9 +64,9 @@ class Avoid : public colony::Controller {
  private:
   void Steer() {
     double left = 0, right = 0;
-    for (size_t i = 0; i < ring_->size(); ++i) {
+    for (size_t i = 0; i < ring_.size(); ++i) {
       if (!active_[i]) continue;
-      const double angle = (*ring_)[i].angle;
+      const double angle = ring_[i].angle;
       if (std::abs(angle) >= M_PI / 2) continue;
       (angle > 0 ? left : right) += std::cos(angle);
     }
@@ -81,7 +82,7 @@ class Avoid : public colony::Controller {
   double speed_ = 0, threshold_ = 0, hysteresis_ = 0;
   bool events_ = false;
   std::array<bool, 24> active_{};
-  const std::vector<colony::ProximitySensor::Reading>* ring_ = nullptr;
+  std::span<const colony::ProximitySensor::Reading> ring_;
   colony::ProximitySensor* proximity_ = nullptr;
   colony::DifferentialSteering* wheels_ = nullptr;
 };

@@ -259,7 +259,13 @@ TEST(Argos3Configuration, MissingNodesAndAttributesNameTheirPath) {
 // Controller host and device adapters
 
 struct FakeProximity : colony::ProximitySensor {
-  std::vector<Reading>& set() { return readings_; }
+  // The readings are a view (the simulated sensor's blocks); the fake owns them.
+  void Resize(size_t n) {
+    storage.resize(n);
+    readings_ = storage;
+  }
+  std::span<Reading> set() { return readings_; }
+  std::vector<Reading> storage;
 };
 struct FakeGround : colony::GroundSensor {
   std::vector<Reading>& set() { return readings_; }
@@ -304,7 +310,7 @@ class HostTest : public ::testing::Test {
   void SetUp() override {
     ProbeController::on_init = nullptr;
     ProbeController::on_step = nullptr;
-    proximity_.set().resize(24);
+    proximity_.Resize(24);
     for (int i = 0; i < 24; ++i)
       proximity_.set()[i] = {0.0f, static_cast<float>((i + 0.5) * M_PI / 12)};
     ground_.set().resize(8);

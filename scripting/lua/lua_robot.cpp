@@ -302,8 +302,8 @@ int UnavailableIndex(lua_State* L) {
 // to tick, and a write costs far more than the comparison. (So a script that
 // stores its own number in a reading's value keeps it until the sensor's
 // reading changes; README.md says so.)
-template <class Reading>
-void WriteRing(lua_State* L, int table, int key, const std::vector<Reading>& readings,
+template <class Readings>
+void WriteRing(lua_State* L, int table, int key, const Readings& readings,
                const std::vector<uint8_t>& source, bool threshold, std::vector<float>& written) {
   const size_t n = written.size();
   bool pushed = false;

@@ -2,7 +2,7 @@
 // On the marXbot: 24 sensors, 15 degrees apart, 6 cm above the floor.
 #pragma once
 
-#include <vector>
+#include <span>
 
 #include "core/control_interface.h"
 
@@ -17,7 +17,9 @@ class ProximitySensor : public Sensor {
   };
   // One reading per sensor, in ring order. Reading them is a poll of the
   // ring, counted on the robot's bus when it has bus accounting (docs/events.md).
-  const std::vector<Reading>& readings() const {
+  // The view stays valid as long as the robot (the readings live in one
+  // array of the simulated sensor's, not in a vector of each robot's).
+  std::span<const Reading> readings() const {
     read_ = true;
     return readings_;
   }
@@ -30,7 +32,7 @@ class ProximitySensor : public Sensor {
   // threshold; `reading` is the sensor's index in ring order.
 
  protected:
-  std::vector<Reading> readings_;
+  std::span<Reading> readings_;
 
  private:
   mutable bool read_ = false;  // readings() was called since TakeRead

@@ -21,11 +21,14 @@
 namespace colony {
 namespace {
 
-struct ProximityInstance : ProximitySensor, InstanceBase {
+// The random stream of a ring with noise is kept by the system (most rings
+// have none and draw nothing).
+struct ProximityInstance : ProximitySensor, InstanceBaseWithoutStream {
   using Interface = ProximitySensor;
-  std::vector<Reading>& mutable_readings() { return readings_; }
+  std::span<Reading> mutable_readings() { return readings_; }
   // The readings, without counting a poll (ProximitySensor::readings does).
-  const std::vector<Reading>& stored() const { return readings_; }
+  std::span<const Reading> stored() const { return readings_; }
+  void SetReadings(std::span<Reading> readings) { readings_ = readings; }
   int Watch(const ThresholdWatch& watch) override {
     if (!watches) watches = std::make_unique<ThresholdWatches>();
     const int id = watches->Add(watch, static_cast<int>(readings_.size()),
@@ -54,11 +57,14 @@ class ProximitySystem : public SensorSystem {
     const RingMount* mount = sim().MountsOf(robot).Ring("proximity");
     if (!mount) throw AttachError("it has no proximity ring");
     ProximityInstance& p = instances_.Add(robot, rng);
+    if (noise_.enabled()) streams_.push_back(rng);
     p.mount = mount;
-    p.mutable_readings().resize(mount->count);
+    const std::span<ProximitySensor::Reading> readings =
+        readings_.Take(static_cast<size_t>(mount->count));
     for (int i = 0; i < mount->count; ++i) {
-      p.mutable_readings()[i] = {0.0f, static_cast<float>(WrapAngle(mount->AngleOf(i)))};
+      readings[i] = {0.0f, static_cast<float>(WrapAngle(mount->AngleOf(i)))};
     }
+    p.SetReadings(readings);
     p.directions = directions_.Of(*mount);
     p.any_watch = &any_watch_;
     return &p;
@@ -117,10 +123,10 @@ class ProximitySystem : public SensorSystem {
         near[kept++] = o;
       }
       near.resize(kept);
-      auto& readings = p.mutable_readings();
+      const std::span<ProximitySensor::Reading> readings = p.mutable_readings();
       if (near.empty()) {
         // Nothing in range: every ray misses.
-        for (auto& r : readings) r.value = static_cast<float>(Noisy(0.0, p.rng));
+        for (auto& r : readings) r.value = static_cast<float>(Noisy(0.0, k));
         if (p.watches) CheckWatches(p);
         continue;
       }
@@ -135,7 +141,7 @@ class ProximitySystem : public SensorSystem {
           best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
         }
         const double value = best <= range ? std::min(1.0, 0.01 / std::max(best, 1e-6)) : 0.0;
-        readings[i].value = static_cast<float>(Noisy(value, p.rng));
+        readings[i].value = static_cast<float>(Noisy(value, k));
       }
       if (p.watches) CheckWatches(p);
     }
@@ -150,17 +156,23 @@ class ProximitySystem : public SensorSystem {
 
  private:
   static void CheckWatches(ProximityInstance& p) {
-    const auto& readings = p.stored();
+    const std::span<const ProximitySensor::Reading> readings = p.stored();
     p.watches->Check(&p, [&readings](int i) { return readings[i].value; });
   }
-  double Noisy(double value, RandomStream& rng) const {
+  // `value` with instance k's noise (drawn from its stream), if any.
+  double Noisy(double value, size_t k) {
     if (!noise_.enabled()) return value;
+    RandomStream& rng = streams_[k];
     return noise_.Drop(rng) ? 0.0 : std::clamp(noise_.Apply(value, rng), 0.0, 1.0);
   }
 
   double range_ = -1;
   NoiseModel noise_;
   InstanceStore<ProximityInstance> instances_;
+  // Every instance's readings, in blocks (addresses stay put as robots come).
+  ArrayBlocks<ProximitySensor::Reading> readings_;
+  // One stream per instance, in the same order, only with noise.
+  std::deque<RandomStream> streams_;
   RingDirections directions_;  // per ring mount (one per robot type)
   std::atomic<bool> any_watch_{false};
 };

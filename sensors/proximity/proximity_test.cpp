@@ -23,7 +23,8 @@ class ProximityProbe : public Controller {
  public:
   void Init(const Params& params) override { sensor_ = &GetSensor<ProximitySensor>("proximity"); }
   void ControlStep() override {
-    last = sensor_->readings();
+    const auto readings = sensor_->readings();
+    last.assign(readings.begin(), readings.end());
     ++steps;
   }
   std::vector<ProximitySensor::Reading> last;

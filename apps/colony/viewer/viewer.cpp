@@ -499,10 +499,10 @@ std::string EncodeFrame(const Simulation& sim, uint64_t tick, const std::vector<
 // --- Inspection ------------------------------------------------------------
 
 // A ring of readings (proximity, light, ground): values and directions.
-template <class Reading>
-void AddRing(json& out, const std::vector<Reading>& readings) {
+template <class Readings>
+void AddRing(json& out, const Readings& readings) {
   json values = json::array(), angles = json::array();
-  for (const Reading& r : readings) {
+  for (const auto& r : readings) {
     values.push_back(r.value);
     angles.push_back(r.angle);
   }
