@@ -1,5 +1,5 @@
 // A layout experiment for the Lua host (scripting/lua/BENCHMARK-NOTES.md,
-// "One state per robot, or one state for many"): the diffusion script's
+// "One state per robot, or one state for many"): experiments/lua/diffusion.lua's
 // step() on N robots, with each robot in its own Lua state (as the host
 // does) or all robots in one state, each with its own _ENV table (the script
 // wrapped as `return function(_ENV, ...) <script> end`, so its globals and
@@ -16,45 +16,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <lua.hpp>
+#include <sstream>
 #include <string>
 #include <vector>
-static const char* kScript = R"(
-local ALPHA = math.rad(7.5)
-local DELTA = 0.1
-local VELOCITY = 5
-local atan, sqrt, abs, pi = math.atan, math.sqrt, math.abs, math.pi
-local proximity, wheels
-local cos_angle, sin_angle = {}, {}
-function init()
-   proximity, wheels = robot.proximity, robot.wheels
-   for i = 1, #proximity do
-      cos_angle[i] = math.cos(proximity[i].angle)
-      sin_angle[i] = math.sin(proximity[i].angle)
-   end
-end
-function step()
-   local n = #proximity
-   local x, y = 0, 0
-   for i = 1, n do
-      local value = proximity[i].value
-      if value > 0 then
-         x = x + value * cos_angle[i]
-         y = y + value * sin_angle[i]
-      end
-   end
-   x, y = x / n, y / n
-   local angle = atan(y, x)
-   local length = sqrt(x * x + y * y)
-   if (abs(angle) <= ALPHA and length < DELTA) or abs(angle) > pi / 2 then
-      wheels.set_velocity(VELOCITY, VELOCITY)
-   elseif angle > 0 then
-      wheels.set_velocity(VELOCITY, -VELOCITY)
-   else
-      wheels.set_velocity(-VELOCITY, VELOCITY)
-   end
-end
-)";
 static int SetVel(lua_State* L) {
   double* d = (double*)lua_touserdata(L, lua_upvalueindex(1));
   d[0] = lua_tonumber(L, 1);
@@ -91,6 +57,8 @@ static lua_State* NewState(bool arena) {
 // robot table onto stack
 static void PushRobot(lua_State* L) {
   lua_createtable(L, 0, 4);
+  lua_createtable(L, 0, 0);  // robot.params: none, the script's defaults
+  lua_setfield(L, -2, "params");
   lua_createtable(L, 24, 0);
   for (int i = 0; i < 24; ++i) {
     lua_createtable(L, 0, 2);
@@ -108,9 +76,22 @@ static void PushRobot(lua_State* L) {
   lua_setfield(L, -2, "wheels");
 }
 int main(int argc, char** argv) {
+  if (argc < 3) {
+    fprintf(stderr, "usage: state_layout N MODE [arena]  (run from the project's root)\n");
+    return 2;
+  }
   int n = atoi(argv[1]);
   int mode = atoi(argv[2]);
   bool arena = argc > 3;
+  std::ifstream file("experiments/lua/diffusion.lua");
+  if (!file) {
+    fprintf(stderr, "experiments/lua/diffusion.lua not found: run from the project's root\n");
+    return 2;
+  }
+  std::stringstream text;
+  text << file.rdbuf();
+  const std::string script = text.str();
+  const char* kScript = script.c_str();
   int ticks = 200;
   std::vector<lua_State*> states;
   std::vector<int> refs;
