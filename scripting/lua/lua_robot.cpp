@@ -699,8 +699,7 @@ std::string RobotTable::AddWatch(const std::string& name, ThresholdWatch spec, b
                      : std::string(" (not declared for this robot: add footbot_proximity or "
                                    "proximity to the controller's <sensors>)"));
   }
-  const int count =
-      static_cast<int>(binding->source.empty() ? binding->written.size() : binding->source.size());
+  const int count = static_cast<int>(binding->written.size());  // the entries Lua sees
   if (!each && (lua_reading < 1 || lua_reading > count)) {
     return "robot.watch: reading " + std::to_string(lua_reading) + " does not exist; robot." +
            name + " has readings 1.." + std::to_string(count) + " (or leave reading out: each)";
