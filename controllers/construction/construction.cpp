@@ -399,7 +399,7 @@ class Construction : public colony::Controller {
         break;
       case Phase::kFaceSite: {
         const Point ahead{x_ + across_.x, y_ + across_.y};
-        if (Face(building_tower_ ? Place() : ahead)) {
+        if (Face(ahead)) {
           Next(Phase::kApproachSite);
           if (building_tower_) {
             // Over the tower's top with a centimetre to spare.
@@ -420,14 +420,16 @@ class Construction : public colony::Controller {
             edge_ = {x_ + kGroundAhead * std::cos(yaw_), y_ + kGroundAhead * std::sin(yaw_)};
             Next(Phase::kAlignOverDitch);
           } else {
-            const Point p = RobotLine();
-            Drive({p.x + 0.3 * across_.x, p.y + 0.3 * across_.y}, 0.02);
+            DriveOnLine(0.02);
           }
         } else if (placed_ == 0) {
           // The first cube goes where the tower stands (build1).
-          if (Steer(Place(), held_ahead_)) {
+          if (Ahead(Place()) <= held_ahead_) {
+            Stop();
             manipulator_->SetElevation(kLowElevation + 0.005);
             Next(Phase::kLower);
+          } else {
+            DriveOnLine(0.03);
           }
         } else {
           // build2, build3: forwards over the tower until the front
@@ -435,11 +437,11 @@ class Construction : public colony::Controller {
           const double level = kLowElevation + placed_ * kCubeSide + 0.01;
           if (std::abs(arm_->elevation() - level) > 0.005) {
             Stop();
-          } else if (FrontProximity() >= 0.35 || Distance(Place()) < held_ahead_) {
+          } else if (FrontProximity() >= 0.35 || Ahead(Place()) < held_ahead_) {
             Stop();
             Next(Phase::kRelease);
           } else {
-            Drive(Place(), 0.02);
+            DriveOnLine(0.02);
           }
         }
         break;
@@ -753,7 +755,8 @@ class Construction : public colony::Controller {
   // Where the held cube's centre is: how far ahead of the axis and how far
   // to the left of it (the magnet holds a cube up to 1 cm off its face, and
   // off its middle), from where its top shows at the bottom of the image:
-  // the far edge's row, and the middle of the bright run at the bottom row.
+  // the far edge's row, and the middle of the bright run in the row that
+  // sees the top's middle.
   // Unknown (it does not show): kHeldAhead + 0.005 and 0.
   void MeasureHeld() {
     held_ahead_ = kHeldAhead + 0.005;
@@ -771,14 +774,20 @@ class Construction : public colony::Controller {
     if (down <= 1e-6) return;
     const double ahead = kCameraAhead + (kCameraHeight - top) / down - 0.5 * kCubeSide;
     held_ahead_ = std::clamp(ahead, kHeldAhead - 0.005, kHeldAhead + 0.02);
-    // The bottom row's bright run through the middle, seen at the distance
-    // where that row meets the plane of the top.
+    // The bright run through the middle of the image in the row that sees
+    // the top's middle (at the bottom row the top is wider than the image),
+    // seen at the distance where that row meets the plane of the top.
+    const double middle_ahead = held_ahead_ - kCameraAhead;
+    const int row = std::clamp(
+        static_cast<int>(h / 2.0 + (kCameraHeight - top) / middle_ahead / kTanVertical * h / 2.0),
+        h / 2 + 1, h - 1);
+    if (!bright(w / 2, row)) return;
     int lo = w / 2, hi = w / 2;
-    while (lo > 0 && bright(lo - 1, h - 1)) --lo;
-    while (hi + 1 < w && bright(hi + 1, h - 1)) ++hi;
+    while (lo > 0 && bright(lo - 1, row)) --lo;
+    while (hi + 1 < w && bright(hi + 1, row)) ++hi;
     if (lo == 0 || hi == w - 1) return;
     const double middle = 0.5 * (lo + hi + 1);
-    const double t = (kCameraHeight - top) / ((h - 0.5 - h / 2.0) / (h / 2.0) * kTanVertical);
+    const double t = (kCameraHeight - top) / ((row + 0.5 - h / 2.0) / (h / 2.0) * kTanVertical);
     held_left_ = std::clamp(-(middle - w / 2.0) / (w / 2.0) * kTanHorizontal * t, -0.02, 0.02);
   }
 
@@ -851,13 +860,19 @@ class Construction : public colony::Controller {
     const Point p = Place();
     return {p.x + held_left_ * across_.y, p.y - held_left_ * across_.x};
   }
+  // How far `p` lies ahead of the robot's axis along the approach direction.
+  double Ahead(const Point& p) const { return (p.x - x_) * across_.x + (p.y - y_) * across_.y; }
+  // Forwards along the robot's line to the place, at `speed`.
+  void DriveOnLine(double speed) {
+    const Point p = RobotLine();
+    Drive({p.x + 0.3 * across_.x, p.y + 0.3 * across_.y}, speed);
+  }
   // Where the robot lines up before the final approach to the site: back
   // from the place against the approach direction.
   Point Staging() const {
-    const Point p = Place();
-    if (building_tower_) return {p.x - 0.35 * across_.x, p.y - 0.35 * across_.y};
     const Point line = RobotLine();
-    return {line.x - 0.30 * across_.x, line.y - 0.30 * across_.y};
+    const double back = building_tower_ ? 0.35 : 0.30;
+    return {line.x - back * across_.x, line.y - back * across_.y};
   }
 
   double Distance(const Point& p) const { return std::hypot(p.x - x_, p.y - y_); }
