@@ -14,18 +14,22 @@ success and outcome_time; a run that did not succeed is counted as
                          level (cubes_tilted > 0): half on another cube, or
                          across the ditch's edge;
   timeout                the time ran out otherwise.
-A grasp by a corner is not told apart: the magnet does not hold a cube met by
-its corner (dynamics3d), the controller backs off and tries again, and a run
-that never recovers ends as a timeout."""
+Grasps by a corner are counted apart, from the controller's own count in the
+per-robot table (trajectories.csv, column failed_grasps: the magnet engaged on
+a cube met by a corner or askew and did not hold it; the controller backs off
+and tries again), over all runs of a task whatever their outcome, with the
+IR approaches the controller gave up (lost_approaches: no cube came nearer).
+A run whose last failure was such a grasp still ends as a timeout."""
 import argparse
 import os
+import csv
 import statistics
+import subprocess
 import sys
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 
 import docblock
-import runs
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DOC = os.path.join(ROOT, "docs", "construction.md")
@@ -48,6 +52,25 @@ def classify(r):
     return "timeout"
 
 
+def last_row(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))[-1]
+
+
+def run(build, experiment, seed, out):
+    """The last row of metrics.csv of `colony run EXPERIMENT --seed SEED`, with
+    the controller's counts from the last row of its per-robot table."""
+    colony = os.path.join(ROOT, build, "bin", "colony")
+    subprocess.run([colony, "run", experiment, "--seed", str(seed), "--out", out, "--overwrite", "--quiet",
+                    "--set", "output.trajectories_every=100", "--set", "output.format=csv",
+                    "--set", "output.compress=none"], cwd=ROOT, check=True)
+    r = last_row(os.path.join(out, "metrics.csv"))
+    robot = last_row(os.path.join(out, "trajectories.csv"))
+    r["failed_grasps"] = robot["failed_grasps"]
+    r["lost_approaches"] = robot["lost_approaches"]
+    return r
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("build", nargs="?", default="build")
@@ -60,15 +83,16 @@ def main():
         def one(job):
             name, path, seed = job
             out = os.path.join(tmp, "%s_%d" % (os.path.basename(path), seed))
-            return job, runs.last_metrics(args.build, path, seed, out)
+            return job, run(args.build, path, seed, out)
 
         with ThreadPoolExecutor(max_workers=args.jobs) as pool:
             for (name, path, seed), r in pool.map(one, jobs):
                 results[(name, seed)] = r
     lines = ["",
              "| experiment | Colony: success | Colony: mean time (median, range) | seed 001: success | "
-             "seed 001: mean time | Colony: fell into the ditch | cube half on / jammed | timeout |",
-             "|---|---|---|---|---|---|---|---|"]
+             "seed 001: mean time | Colony: fell into the ditch | cube half on / jammed | timeout | "
+             "grasps by a corner (runs) | IR approaches given up (runs) |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     per_seed = []
     for name, path, seed_success, seed_time in TASKS:
         rows = [results[(name, s)] for s in SEEDS]
@@ -80,9 +104,12 @@ def main():
                                                       min(times), max(times))
         else:
             timing = "-"
-        lines.append("| %s | %d / %d (%.0f%%) | %s | %s | %s | %d | %d | %d |" % (
+        corner = [int(float(r["failed_grasps"])) for r in rows]
+        lost = [int(float(r["lost_approaches"])) for r in rows]
+        lines.append("| %s | %d / %d (%.0f%%) | %s | %s | %s | %d | %d | %d | %d (%d) | %d (%d) |" % (
             name, ok, len(rows), 100.0 * ok / len(rows), timing, seed_success, seed_time,
-            kinds.count("fell"), kinds.count("half_on"), kinds.count("timeout")))
+            kinds.count("fell"), kinds.count("half_on"), kinds.count("timeout"),
+            sum(corner), sum(1 for c in corner if c), sum(lost), sum(1 for c in lost if c)))
         per_seed.append("%s: %s." % (name, ", ".join(
             "%d %s" % (s, "%.0f s" % float(r["outcome_time"]) if k == "success" else k.replace("_", " "))
             for s, r, k in zip(SEEDS, rows, kinds))))

@@ -118,6 +118,8 @@ constexpr double kTurnOn = 0.08, kTurnOff = 0.03;
 // Both middle IR sensors' sum with a cube face about 4.4 cm ahead of the head:
 // far enough for the head to turn (its corners sweep 2.9 cm from its pivot).
 constexpr double kIrClose = 0.45;
+// Below this sum the face is at the edge of the sensors' range.
+constexpr double kIrFaint = 0.15;
 
 class Construction : public colony::Controller {
  public:
@@ -149,6 +151,14 @@ class Construction : public colony::Controller {
     manipulator_ = &GetActuator<colony::ManipulatorActuator>("manipulator");
     manipulator_->SetMagnetSide();
     manipulator_->SetElevation(kCarryElevation);
+  }
+
+  // The per-robot table's values (<output trajectories_every>): grasps that
+  // failed (the magnet engaged on a cube met by a corner or askew, nothing
+  // held), and the IR approaches given up (no cube nearer).
+  void RecordValues(colony::RobotValues& values) const override {
+    values.Set("failed_grasps", failed_grasps_);
+    values.Set("lost_approaches", lost_approaches_);
   }
 
   void ControlStep() override {
@@ -281,14 +291,19 @@ class Construction : public colony::Controller {
         }
         if (std::abs(difference) > kTurnOn) turning_ = true;
         if (std::abs(difference) < kTurnOff) turning_ = false;
+        // Faint, at the edge of the sensors' range, the face shows to one
+        // sensor at a time and turning swaps them back and forth: straight on
+        // (the robot lined up facing the cube) until it shows to both.
+        if (left + right < kIrFaint) turning_ = false;
         if (turning_) {
           const double turn = std::clamp(0.05 * difference, -0.02, 0.02);
           wheels_->SetLinearVelocity(-turn, turn);
         } else {
           wheels_->SetLinearVelocity(0.02, 0.02);
         }
-        // Lost it: no cube where it should be.
-        if (std::hypot(x_ - start_.x, y_ - start_.y) > 0.3) {
+        // Lost it: no cube where it should be (or no nearer in 40 s).
+        if (std::hypot(x_ - start_.x, y_ - start_.y) > 0.3 || ticks_in_phase_ > 400) {
+          ++lost_approaches_;
           manipulator_->SetMagnetSide();
           Next(Phase::kSearch);
         }
@@ -323,6 +338,9 @@ class Construction : public colony::Controller {
           // Engaged but not touching: close the last millimetres.
           wheels_->SetLinearVelocity(0.01, 0.01);
           if (ticks_in_phase_ > 40) {
+            // The magnet met the cube off a face (by a corner, or askew) and
+            // does not hold it.
+            ++failed_grasps_;
             manipulator_->DisengageMagnet();
             Next(Phase::kRetreatAndRetry);
           }
@@ -929,6 +947,7 @@ class Construction : public colony::Controller {
   double ditch_width_ = 0.07, speed_ = 0.1, held_ahead_ = kHeldAhead, held_left_ = 0;
   double x_ = 0, y_ = 0, yaw_ = 0;
   bool building_tower_ = false, turning_ = false, scanned_ = false, reached_ = false;
+  int failed_grasps_ = 0, lost_approaches_ = 0;
   int placed_ = 0, stage_ = 1, lineups_ = 0, vantage_index_ = 0, ticks_ = 0;
   double turned_ = 0, last_yaw_ = 0, first_along_ = -0.5 * (kCubeSide + 0.012);
   Point vantage_;
