@@ -95,8 +95,8 @@ def main():
     lines = ["",
              "| experiment | Colony: success | Colony: mean time (median, range) | seed 001: success | "
              "seed 001: mean time | Colony: fell into the ditch | cube half on / jammed | timeout | "
-             "grasps by a corner (runs) | IR approaches given up (runs) | bridge cube seen jammed: "
-             "mended (runs) | not crossed |",
+             "grasps by a corner (runs) | IR approaches given up (runs) | jammed bridge cube: repair "
+             "attempts (runs) | bridge seen unfinished, not crossed |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     per_seed = []
     for name, path, seed_success, seed_time in TASKS:

@@ -12,6 +12,11 @@
 // lie estimated by back-projecting the top's pixels onto the plane of the
 // cube tops.
 //
+// Each bridge cube let go is checked with the robot's own sensors (the
+// manipulator's IR sensors, lowest, then the camera): a cube jammed across
+// the ditch's edge is gone for again with the magnet (up to twice), and a
+// bridge still not whole is not crossed.
+//
 // params:
 //   task         "bridge", "tower" or "remote" (bridge, cross, then a tower
 //                of the cubes found in the other region)
