@@ -73,7 +73,11 @@ void ThreadPool::ParallelFor(size_t n, size_t min_chunk, ChunkFn fn) {
   // Many chunks per thread (16) balance uneven work: every phase of a tick
   // ends at this barrier, and with few large chunks one thread sat idle for
   // up to a chunk at each of them. Taking a chunk costs one lock.
-  const size_t chunk = std::max(min_chunk, (n + threads_ * 16 - 1) / (threads_ * 16));
+  // A whole number of min_chunk (the nearest to that aim): every chunk starts
+  // at a multiple of it, so items grouped by that many (the robots sharing a
+  // Lua state) are always run by one thread, in order.
+  const size_t aim = (n + threads_ * 16 - 1) / (threads_ * 16);
+  const size_t chunk = std::max<size_t>(1, (aim + min_chunk / 2) / min_chunk) * min_chunk;
   std::unique_lock lock(mutex_);
   job_ = &fn;
   n_ = n;

@@ -45,7 +45,8 @@ class ThreadPool {
   ThreadPool& operator=(const ThreadPool&) = delete;
 
   int threads() const { return threads_; }
-  // Calls fn(begin, end) over chunks of [0, n) of at least `min_chunk` items.
+  // Calls fn(begin, end) over chunks of [0, n) of at least `min_chunk` items,
+  // each starting at a multiple of `min_chunk`.
   // Called from inside a chunk, it runs everything inline.
   void ParallelFor(size_t n, size_t min_chunk, ChunkFn fn);
 

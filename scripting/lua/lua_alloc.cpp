@@ -27,6 +27,7 @@ namespace colony::lua {
 // sanitizer sees every Lua object.
 lua_State* NewArenaState() { return luaL_newstate(); }
 void CloseArenaState(lua_State* L) { lua_close(L); }
+void SetColdAllocation(lua_State*, bool) {}
 
 #else
 
@@ -135,7 +136,8 @@ class Arena {
       return block;
     }
     const size_t bytes = ClassSize(c);
-    if (static_cast<size_t>(end_ - next_) < bytes) {
+    Run& run = runs_[cold_];
+    if (static_cast<size_t>(run.end - run.next) < bytes) {
       void* chunk = ThePool().Take();
       if (chunk == nullptr) return nullptr;
       try {
@@ -144,13 +146,15 @@ class Arena {
         ThePool().Give({chunk});
         return nullptr;
       }
-      next_ = static_cast<char*>(chunk);
-      end_ = next_ + kChunkBytes;
+      run.next = static_cast<char*>(chunk);
+      run.end = run.next + kChunkBytes;
     }
-    void* block = next_;
-    next_ += bytes;
+    void* block = run.next;
+    run.next += bytes;
     return block;
   }
+
+  void SetCold(bool cold) { cold_ = cold ? 1 : 0; }
 
   void Free(void* block, size_t size) {
     if (size > kMaxSmall) {
@@ -186,8 +190,14 @@ class Arena {
 
  private:
   void* free_[kClasses] = {};
-  char* next_ = nullptr;  // where new small objects go: the rest of the last chunk
-  char* end_ = nullptr;
+  // Where new small objects go: the rest of the last chunk taken for objects
+  // visited often ([0]) or seldom ([1]), so that the former lie together.
+  struct Run {
+    char* next = nullptr;
+    char* end = nullptr;
+  };
+  Run runs_[2];
+  int cold_ = 0;
   std::vector<void*> chunks_;
 };
 
@@ -221,6 +231,12 @@ lua_State* NewArenaState() {
   }
   lua_atpanic(L, Panic);
   return L;
+}
+
+void SetColdAllocation(lua_State* L, bool cold) {
+  void* ud = nullptr;
+  lua_getallocf(L, &ud);
+  static_cast<Arena*>(ud)->SetCold(cold);
 }
 
 void CloseArenaState(lua_State* L) {

@@ -22,6 +22,11 @@ namespace colony::lua {
 // AddressSanitizer: luaL_newstate's, so the sanitizer sees every object).
 // Returns nullptr when out of memory.
 lua_State* NewArenaState();
+// From now on, new objects of the state go to a run of memory of their own
+// (cold) or to the run of the objects a step visits (not cold, the default):
+// each robot's standard library copies, visited seldom, are made cold so
+// that the objects its step reads lie close to the next robot's.
+void SetColdAllocation(lua_State* L, bool cold);
 // Closes a state made by NewArenaState, and frees its arena.
 void CloseArenaState(lua_State* L);
 

@@ -536,6 +536,20 @@ TEST(LuaErrors, UnknownOnErrorValueIsALoadError) {
   fs::remove_all(dir);
 }
 
+TEST(LuaErrors, UnknownLuaStateValueIsALoadError) {
+  const fs::path dir =
+      WriteFiles("luastate", {{"exp.argos", ArgosFile("script=\"ok.lua\" lua_state=\"one\"")},
+                              {"ok.lua", "function step() end\n"}});
+  std::string message;
+  try {
+    Load((dir / "exp.argos").string());
+  } catch (const ConfigError& e) {
+    message = e.what();
+  }
+  EXPECT_TRUE(testing::Mentions(message, {"exp.argos:7", "lua_state", "'one'", "shared", "own"}));
+  fs::remove_all(dir);
+}
+
 // on_error="continue": as in ARGoS, the error is logged and that robot's
 // script stops (its wheels keep their last command); the others go on.
 TEST(LuaErrors, ContinueOnErrorStopsOnlyThatRobotsScript) {
@@ -846,6 +860,69 @@ function step() end
   EXPECT_EQ(draws(3, 0), reference);
   EXPECT_NE(draws(4, 1), reference);
   fs::remove_all(dir);
+}
+
+// --- Lua states ----------------------------------------------------------------------------------
+
+// Robots sharing a Lua state (the default) each keep a world of their own,
+// as with a state per robot: their globals, their copies of the standard
+// libraries (a string method one robot adds is its own), their modules'
+// state, and what load() sees. Each robot checks it every tick; a breach
+// stops the run with the assertion's message.
+TEST(LuaStates, EachRobotKeepsItsOwnGlobalsLibrariesAndModules) {
+  const std::string script = R"lua(
+local counter = require("counter")
+function init()
+   me = robot.id
+   math.mine = robot.id
+   function string.owner() return robot.id end
+   counter.add(#robot.id)
+end
+function step()
+   assert(me == robot.id, "a global of another robot: " .. tostring(me))
+   assert(_G.me == robot.id and _ENV == _G, "_G is not the robot's own")
+   assert(math.mine == robot.id, "math changed by another robot: " .. tostring(math.mine))
+   assert(("x"):owner() == robot.id, "the string method of another robot")
+   assert(package.loaded.counter == counter, "package.loaded is not the robot's own")
+   ticks = (ticks or 0) + 1
+   counter.add(1)
+   assert(counter.total() == #robot.id + ticks, "a module's state shared between robots")
+   assert(load("return me")() == robot.id, "load() does not see the robot's globals")
+   robot.wheels.set_velocity(1, 1)
+end
+)lua";
+  const std::string counter =
+      "local total = 0\n"
+      "return { add = function(n) total = total + n end, total = function() return total end }\n";
+  for (const char* mode : {"shared", "own"}) {
+    const fs::path dir = WriteFiles(
+        std::string("world_") + mode,
+        {{"exp.argos", ArgosFile("script=\"own.lua\" lua_state=\"" + std::string(mode) + "\"", 5,
+                                 "<footbot_proximity/>", "<differential_steering/>")},
+         {"own.lua", script},
+         {"counter.lua", counter}});
+    const Result r =
+        Colony("run " + (dir / "exp.argos").string() + " --out " + (dir / "out").string());
+    EXPECT_EQ(r.status, 0) << mode << ": " << r.output;
+    fs::remove_all(dir);
+  }
+}
+
+// The thread pool hands robots out in whole multiples of 64, the robots of a
+// shared state: 1,000 Lua robots (16 states) end in the same state at 0, 1
+// and 2 threads, and as with a Lua state per robot.
+TEST(LuaStates, SharedStatesGiveTheResultsOfAStatePerRobotAtAnyThreadCount) {
+  const std::string file = COLONY_SOURCE_DIR "/experiments/lua/benchmarks/diffusion_lua_1000.xml";
+  auto final_hash = [&](int threads, const std::string& mode) {
+    auto sim = Load(file,
+                    {"framework.experiment.length=2",
+                     "controllers.lua_controller[dc].params.lua_state=" + mode},
+                    threads);
+    while (!sim->Done()) sim->Step();
+    return sim->StateHash();
+  };
+  const uint64_t reference = final_hash(0, "own");
+  for (int threads : {0, 1, 2}) EXPECT_EQ(final_hash(threads, "shared"), reference) << threads;
 }
 
 // --- require and relative files ------------------------------------------------------------------

@@ -30,10 +30,11 @@ void PushYawQuaternion(lua_State* L, double yaw);
 // robot.random (into the table on top of the stack), drawing from `stream`,
 // which must outlive the Lua state.
 void RegisterRobotRandom(lua_State* L, RandomStream* stream);
-// math.random and math.randomseed drawing from `stream` instead of the C
+// math.random and math.randomseed of the robot's environment at stack index
+// `env` (its own copy of `math`) drawing from `stream` instead of the C
 // library's process-wide generator (whose sequence would depend on how
 // threads interleave). `robot_id` is mixed into math.randomseed's seeds.
-void ReplaceMathRandom(lua_State* L, RandomStream* stream, const std::string& robot_id);
+void ReplaceMathRandom(lua_State* L, int env, RandomStream* stream, const std::string& robot_id);
 
 // --- helpers -------------------------------------------------------------------------------------
 // Pushes a C closure that raises "`what` is not available in Colony: `why`".
@@ -53,11 +54,17 @@ class RobotTable {
   RobotTable(const RobotTable&) = delete;
   RobotTable& operator=(const RobotTable&) = delete;
 
-  // Builds the global `robot` in L: id, params, random, then one entry per
-  // declared device. Throws std::runtime_error when two devices would fill
-  // the same entry.
-  void Build(lua_State* L, const DeviceTable& devices, RandomStream* rng,
+  // Builds `robot` in the robot's environment (the table at stack index
+  // `env`): id, params, random, then one entry per declared device. Throws
+  // std::runtime_error when two devices would fill the same entry.
+  void Build(lua_State* L, int env, const DeviceTable& devices, RandomStream* rng,
              const std::vector<std::pair<std::string, std::string>>& params);
+  // Appends the addresses of the tables a step reads (the rings' entries),
+  // for prefetching.
+  void HotObjects(lua_State* L, std::vector<const void*>& out) const;
+  // Drops the registry references Build made (the state lives on with other
+  // robots in it).
+  void Release(lua_State* L);
   // Writes this tick's sensor readings into the tables.
   void Update(lua_State* L);
   // Pushes the Lua table of `event` ({sensor, watch, reading, value,

@@ -159,8 +159,8 @@ void RegisterRobotRandom(lua_State* L, RandomStream* stream) {
   lua_setfield(L, -2, "random");
 }
 
-void ReplaceMathRandom(lua_State* L, RandomStream* stream, const std::string& robot_id) {
-  lua_getglobal(L, "math");
+void ReplaceMathRandom(lua_State* L, int env, RandomStream* stream, const std::string& robot_id) {
+  lua_getfield(L, env, "math");
   lua_pushlightuserdata(L, stream);
   lua_pushcclosure(L, MathRandom, 1);
   lua_setfield(L, -2, "random");

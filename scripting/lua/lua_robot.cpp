@@ -428,8 +428,9 @@ struct RobotTable::Binding {
 RobotTable::RobotTable() = default;
 RobotTable::~RobotTable() = default;
 
-void RobotTable::Build(lua_State* L, const DeviceTable& devices, RandomStream* rng,
+void RobotTable::Build(lua_State* L, int env, const DeviceTable& devices, RandomStream* rng,
                        const std::vector<std::pair<std::string, std::string>>& params) {
+  env = lua_absindex(L, env);
   lua_createtable(L, 0, 16);
   const int robot = lua_gettop(L);
   lua_pushstring(L, devices.robot_id->c_str());
@@ -478,7 +479,30 @@ void RobotTable::Build(lua_State* L, const DeviceTable& devices, RandomStream* r
   lua_pushlightuserdata(L, this);
   lua_pushcclosure(L, WatchFunction, 1);
   lua_setfield(L, robot, "watch");
-  lua_setglobal(L, "robot");
+  lua_setfield(L, env, "robot");
+}
+
+void RobotTable::HotObjects(lua_State* L, std::vector<const void*>& out) const {
+  for (const Binding& b : bindings_) {
+    if (b.written.empty()) continue;  // not a ring
+    lua_rawgeti(L, LUA_REGISTRYINDEX, b.table);
+    for (size_t j = 0; j < b.written.size(); ++j) {
+      lua_rawgeti(L, -1, static_cast<lua_Integer>(j + 1));
+      out.push_back(lua_topointer(L, -1));
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
+}
+
+void RobotTable::Release(lua_State* L) {
+  for (Binding& b : bindings_) {
+    luaL_unref(L, LUA_REGISTRYINDEX, b.table);
+    b.table = LUA_NOREF;
+  }
+  luaL_unref(L, LUA_REGISTRYINDEX, value_key_);
+  luaL_unref(L, LUA_REGISTRYINDEX, keys_);
+  value_key_ = keys_ = LUA_NOREF;
 }
 
 std::vector<std::string> RobotTable::BindActuator(lua_State* L, int robot, const std::string& label,
