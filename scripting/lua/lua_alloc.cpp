@@ -28,6 +28,7 @@ namespace colony::lua {
 lua_State* NewArenaState() { return luaL_newstate(); }
 void CloseArenaState(lua_State* L) { lua_close(L); }
 void SetColdAllocation(lua_State*, bool) {}
+void SetFreshAllocation(lua_State*, bool) {}
 
 #else
 
@@ -131,7 +132,7 @@ class Arena {
   void* Allocate(size_t size) {
     if (size > kMaxSmall) return std::malloc(size);
     const int c = ClassOf(size);
-    if (void* block = free_[c]) {
+    if (void* block = free_[c]; block != nullptr && !fresh_) {
       free_[c] = *static_cast<void**>(block);
       return block;
     }
@@ -155,6 +156,7 @@ class Arena {
   }
 
   void SetCold(bool cold) { cold_ = cold ? 1 : 0; }
+  void SetFresh(bool fresh) { fresh_ = fresh; }
 
   void Free(void* block, size_t size) {
     if (size > kMaxSmall) {
@@ -198,6 +200,7 @@ class Arena {
   };
   Run runs_[2];
   int cold_ = 0;
+  bool fresh_ = false;  // new objects in order, none in freed blocks
   std::vector<void*> chunks_;
 };
 
@@ -237,6 +240,12 @@ void SetColdAllocation(lua_State* L, bool cold) {
   void* ud = nullptr;
   lua_getallocf(L, &ud);
   static_cast<Arena*>(ud)->SetCold(cold);
+}
+
+void SetFreshAllocation(lua_State* L, bool fresh) {
+  void* ud = nullptr;
+  lua_getallocf(L, &ud);
+  static_cast<Arena*>(ud)->SetFresh(fresh);
 }
 
 void CloseArenaState(lua_State* L) {

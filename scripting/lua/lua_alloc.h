@@ -27,6 +27,11 @@ lua_State* NewArenaState();
 // each robot's standard library copies, visited seldom, are made cold so
 // that the objects its step reads lie close to the next robot's.
 void SetColdAllocation(lua_State* L, bool cold);
+// While `fresh`, new small objects are laid one after the other in new
+// memory, never in blocks freed before: a robot's tables made at its start
+// then lie together (a table beside its hash part), in the order its step
+// reads them.
+void SetFreshAllocation(lua_State* L, bool fresh);
 // Closes a state made by NewArenaState, and frees its arena.
 void CloseArenaState(lua_State* L);
 

@@ -690,6 +690,12 @@ class LuaController : public Controller {
       throw;
     }
     SetColdAllocation(L, false);
+    // The robot's tables, closures and the script's own objects, in order.
+    struct Fresh {
+      lua_State* L;
+      explicit Fresh(lua_State* state) : L(state) { SetFreshAllocation(L, true); }
+      ~Fresh() { SetFreshAllocation(L, false); }
+    } fresh(L);
     const int env = lua_gettop(L);
     lua_getfield(L, env, "string");
     string_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);

@@ -483,6 +483,11 @@ void RobotTable::Build(lua_State* L, int env, const DeviceTable& devices, Random
 }
 
 void RobotTable::HotObjects(lua_State* L, std::vector<const void*>& out) const {
+  out.push_back(this);
+  out.push_back(bindings_.data());
+  for (const Binding& b : bindings_) {
+    if (!b.written.empty()) out.push_back(b.written.data());
+  }
   for (const Binding& b : bindings_) {
     if (b.written.empty()) continue;  // not a ring
     lua_rawgeti(L, LUA_REGISTRYINDEX, b.table);
