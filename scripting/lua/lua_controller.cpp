@@ -384,6 +384,57 @@ return function(template, folder, path)
 end
 )lua";
 
+// A robot alone in its state (lua_state="own") has the state's globals. Its
+// dofile, loadfile, io.open, io.lines take a relative file name from the
+// experiment file's folder (upvalue 2), where ARGoS users run ARGoS from.
+int FromExperimentFolder(lua_State* L) {
+  const char* name = lua_tostring(L, 1);
+  if (lua_type(L, 1) == LUA_TSTRING && name[0] != '/') {
+    lua_pushfstring(L, "%s/%s", lua_tostring(L, lua_upvalueindex(2)), name);
+    lua_replace(L, 1);
+  }
+  const int n = lua_gettop(L);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, n, LUA_MULTRET);
+  return lua_gettop(L);
+}
+
+void ResolveFilesFrom(lua_State* L, const std::string& folder) {
+  auto wrap = [&](const char* table, const char* name) {
+    if (table) lua_getglobal(L, table);
+    if (table ? lua_getfield(L, -1, name) : lua_getglobal(L, name)) {
+      lua_pushlstring(L, folder.data(), folder.size());
+      lua_pushcclosure(L, FromExperimentFolder, 2);
+      if (table) {
+        lua_setfield(L, -2, name);
+      } else {
+        lua_setglobal(L, name);
+      }
+    } else {
+      lua_pop(L, 1);
+    }
+    if (table) lua_pop(L, 1);
+  };
+  wrap(nullptr, "dofile");
+  wrap(nullptr, "loadfile");
+  wrap("io", "open");
+  wrap("io", "lines");
+}
+
+// Loads kMakeEnvironment, compiled once per process.
+int LoadMakeEnvironment(lua_State* L) {
+  static std::mutex mutex;
+  static std::string bytecode;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (!bytecode.empty())
+    return luaL_loadbufferx(L, bytecode.data(), bytecode.size(), "=(colony environment)", "b");
+  const int status = luaL_loadbufferx(L, kMakeEnvironment, std::strlen(kMakeEnvironment),
+                                      "=(colony environment)", "t");
+  if (status == LUA_OK && lua_dump(L, AppendChunk, &bytecode, 0) != 0) bytecode.clear();
+  return status;
+}
+
 // Strings' methods (s:upper()) come from the string library of the robot
 // whose code runs (upvalue 1 holds it at [1]), as if each robot had a state
 // of its own.
@@ -442,9 +493,20 @@ class StateGroup {
   lua_State* L() const { return L_; }
   std::mutex& mutex() { return mutex_; }
   bool full() const { return assigned_ == capacity_; }
+  int capacity() const { return capacity_; }
 
   // Pushes a new environment for a robot (kMakeEnvironment).
   void PushNewEnvironment(const std::string& folder, const std::string& package_path) {
+    if (capacity_ == 1) {
+      // The state's own globals, as ARGoS's: the stock require and load.
+      ResolveFilesFrom(L_, folder);
+      lua_getglobal(L_, "package");
+      lua_pushlstring(L_, package_path.data(), package_path.size());
+      lua_setfield(L_, -2, "path");
+      lua_pop(L_, 1);
+      lua_pushglobaltable(L_);
+      return;
+    }
     lua_rawgeti(L_, LUA_REGISTRYINDEX, make_environment_);
     lua_pushglobaltable(L_);
     lua_pushlstring(L_, folder.data(), folder.size());
@@ -495,6 +557,7 @@ class StateGroup {
   // Makes string methods those of the robot whose string library is the
   // registry's `string_ref`: called before running a robot's code.
   void Enter(int string_ref) {
+    if (current_ == LUA_NOREF) return;  // a state of one robot
     lua_rawgeti(L_, LUA_REGISTRYINDEX, current_);
     lua_rawgeti(L_, LUA_REGISTRYINDEX, string_ref);
     lua_rawseti(L_, -2, 1);
@@ -520,25 +583,25 @@ class StateGroup {
       AddMissingCompatFunctions(L_);
       InstallOrderedPairs(L_);
       RegisterMathTypes(L_);
-      // String methods through the running robot's string library.
-      lua_createtable(L_, 1, 0);
-      lua_getglobal(L_, "string");
-      lua_rawseti(L_, -2, 1);
-      lua_pushvalue(L_, -1);
-      current_ = luaL_ref(L_, LUA_REGISTRYINDEX);
-      lua_pushliteral(L_, "");
-      lua_getmetatable(L_, -1);
-      lua_pushvalue(L_, -3);
-      lua_pushcclosure(L_, StringIndex, 1);
-      lua_setfield(L_, -2, "__index");
-      lua_pop(L_, 3);
-      if (luaL_loadbuffer(L_, kMakeEnvironment, std::strlen(kMakeEnvironment),
-                          "=(colony environment)") != LUA_OK ||
-          lua_pcall(L_, 0, 1, kTraceback) != LUA_OK) {
-        throw std::runtime_error(std::string("could not set up a Lua state: ") +
-                                 lua_tostring(L_, -1));
+      if (capacity_ > 1) {
+        // String methods through the running robot's string library.
+        lua_createtable(L_, 1, 0);
+        lua_getglobal(L_, "string");
+        lua_rawseti(L_, -2, 1);
+        lua_pushvalue(L_, -1);
+        current_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+        lua_pushliteral(L_, "");
+        lua_getmetatable(L_, -1);
+        lua_pushvalue(L_, -3);
+        lua_pushcclosure(L_, StringIndex, 1);
+        lua_setfield(L_, -2, "__index");
+        lua_pop(L_, 3);
+        if (LoadMakeEnvironment(L_) != LUA_OK || lua_pcall(L_, 0, 1, kTraceback) != LUA_OK) {
+          throw std::runtime_error(std::string("could not set up a Lua state: ") +
+                                   lua_tostring(L_, -1));
+        }
+        make_environment_ = luaL_ref(L_, LUA_REGISTRYINDEX);
       }
-      make_environment_ = luaL_ref(L_, LUA_REGISTRYINDEX);
       lua_newtable(L_);
       scripts_ = luaL_ref(L_, LUA_REGISTRYINDEX);
     } catch (...) {
@@ -682,7 +745,13 @@ class LuaController : public Controller {
   // caller holds the group's lock.
   void Start() {
     lua_State* L = group_->L();
-    SetColdAllocation(L, true);
+    // In a shared state, the robot's copies of the libraries go apart
+    // (cold), and its tables, closures and the script's own objects are laid
+    // in order in new memory (fresh), so that the objects the robots' steps
+    // read lie together, robot after robot. A state of its own keeps one run
+    // and reuses freed blocks: it would only take more memory.
+    const bool shared = group_->capacity() > 1;
+    SetColdAllocation(L, shared);
     try {
       group_->PushNewEnvironment(folder_, PackagePath());
     } catch (...) {
@@ -690,12 +759,11 @@ class LuaController : public Controller {
       throw;
     }
     SetColdAllocation(L, false);
-    // The robot's tables, closures and the script's own objects, in order.
     struct Fresh {
       lua_State* L;
-      explicit Fresh(lua_State* state) : L(state) { SetFreshAllocation(L, true); }
+      Fresh(lua_State* state, bool fresh) : L(state) { SetFreshAllocation(L, fresh); }
       ~Fresh() { SetFreshAllocation(L, false); }
-    } fresh(L);
+    } fresh(L, shared);
     const int env = lua_gettop(L);
     lua_getfield(L, env, "string");
     string_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
