@@ -947,22 +947,31 @@ class Construction : public colony::Controller {
   // along the ditch's direction), from its top in the dark band: the bright
   // pixels whose rays meet the floor's plane within 4 cm of the ditch's
   // centre line. Unchanged (where it was put) if it does not show.
-  void LocateFirstBridgeCube() {
+  // Calls f(off, along) for each bright pixel below the horizon, its place
+  // back-projected onto the floor's plane, across and along the ditch from
+  // the site.
+  template <class F>
+  void ForEachBrightFloorPoint(F f) const {
     const int w = camera_->width(), h = camera_->height();
-    double sum = 0;
-    int n = 0;
     for (int v = h / 2 + 1; v < h; ++v) {
       for (int u = 0; u < w; ++u) {
         const colony::Color c = camera_->At(u, v);
         if ((c.r + c.g + c.b) / 3 < kBrightGrey) continue;
         const auto p = BackProject(u + 0.5, v + 0.5, 0, w, h);
         if (!p) continue;
-        const double off = (p->x - site_.x) * across_.x + (p->y - site_.y) * across_.y;
-        if (std::abs(off) > 0.04) continue;
-        sum += -(p->x - site_.x) * across_.y + (p->y - site_.y) * across_.x;
-        ++n;
+        f((p->x - site_.x) * across_.x + (p->y - site_.y) * across_.y,
+          -(p->x - site_.x) * across_.y + (p->y - site_.y) * across_.x);
       }
     }
+  }
+  void LocateFirstBridgeCube() {
+    double sum = 0;
+    int n = 0;
+    ForEachBrightFloorPoint([&](double off, double along) {
+      if (std::abs(off) > 0.04) return;
+      sum += along;
+      ++n;
+    });
     if (n >= 10) first_along_ = std::clamp(sum / n, -0.08, 0.02);
   }
   // Whether the cube just put at Place() lies flat in the ditch, from the
@@ -971,26 +980,17 @@ class Construction : public colony::Controller {
   // floor's level; a top raised (a cube on its side, or across an edge)
   // back-projects beyond the ditch. Flat unless more fall beyond than in it.
   bool FlatInDitch() const {
-    const int w = camera_->width(), h = camera_->height();
     const Point place = Place();
     const double place_along = -(place.x - site_.x) * across_.y + (place.y - site_.y) * across_.x;
     int in = 0, beyond = 0;
-    for (int v = h / 2 + 1; v < h; ++v) {
-      for (int u = 0; u < w; ++u) {
-        const colony::Color c = camera_->At(u, v);
-        if ((c.r + c.g + c.b) / 3 < kBrightGrey) continue;
-        const auto p = BackProject(u + 0.5, v + 0.5, 0, w, h);
-        if (!p) continue;
-        const double off = (p->x - site_.x) * across_.x + (p->y - site_.y) * across_.y;
-        const double along = -(p->x - site_.x) * across_.y + (p->y - site_.y) * across_.x;
-        if (std::abs(along - place_along) > 0.05) continue;
-        if (std::abs(off) <= 0.04) {
-          ++in;
-        } else if (off > 0.04 && off < 0.2) {
-          ++beyond;
-        }
+    ForEachBrightFloorPoint([&](double off, double along) {
+      if (std::abs(along - place_along) > 0.05) return;
+      if (std::abs(off) <= 0.04) {
+        ++in;
+      } else if (off > 0.04 && off < 0.2) {
+        ++beyond;
       }
-    }
+    });
     return beyond <= in;
   }
 

@@ -522,32 +522,28 @@ TEST(LuaErrors, MissingScriptIsALoadErrorNamingTheFileAndLine) {
   fs::remove_all(dir);
 }
 
-TEST(LuaErrors, UnknownOnErrorValueIsALoadError) {
-  const fs::path dir =
-      WriteFiles("onerror", {{"exp.argos", ArgosFile("script=\"ok.lua\" on_error=\"ignore\"")},
-                             {"ok.lua", "function step() end\n"}});
+// The load error of an experiment whose <params> (line 7) are `params`.
+std::string LoadErrorWith(const std::string& name, const std::string& params) {
+  const fs::path dir = WriteFiles(name, {{"exp.argos", ArgosFile("script=\"ok.lua\" " + params)},
+                                         {"ok.lua", "function step() end\n"}});
   std::string message;
   try {
     Load((dir / "exp.argos").string());
   } catch (const ConfigError& e) {
     message = e.what();
   }
-  EXPECT_TRUE(testing::Mentions(message, {"exp.argos:7", "on_error", "ignore", "continue"}));
   fs::remove_all(dir);
+  return message;
+}
+
+TEST(LuaErrors, UnknownOnErrorValueIsALoadError) {
+  EXPECT_TRUE(testing::Mentions(LoadErrorWith("onerror", "on_error=\"ignore\""),
+                                {"exp.argos:7", "on_error", "ignore", "continue"}));
 }
 
 TEST(LuaErrors, UnknownLuaStateValueIsALoadError) {
-  const fs::path dir =
-      WriteFiles("luastate", {{"exp.argos", ArgosFile("script=\"ok.lua\" lua_state=\"one\"")},
-                              {"ok.lua", "function step() end\n"}});
-  std::string message;
-  try {
-    Load((dir / "exp.argos").string());
-  } catch (const ConfigError& e) {
-    message = e.what();
-  }
-  EXPECT_TRUE(testing::Mentions(message, {"exp.argos:7", "lua_state", "'one'", "shared", "own"}));
-  fs::remove_all(dir);
+  EXPECT_TRUE(testing::Mentions(LoadErrorWith("luastate", "lua_state=\"one\""),
+                                {"exp.argos:7", "lua_state", "'one'", "shared", "own"}));
 }
 
 // on_error="continue": as in ARGoS, the error is logged and that robot's
