@@ -623,29 +623,37 @@ class StateGroup {
   std::vector<std::vector<const void*>> hot_;  // by slot
 };
 
+// The value of parameter `key`, one of `accepted` ({value, what it means},
+// the first the default); any other value is a ParamError listing them.
+std::string ChoiceParam(const Params& params, const std::string& key,
+                        const std::vector<std::pair<std::string, std::string>>& accepted) {
+  const std::string value = params.GetString(key, accepted.front().first);
+  std::string list;
+  for (const auto& [choice, meaning] : accepted) {
+    if (choice == value) return value;
+    list += (list.empty() ? "" : ", ") + choice + " (" + meaning + ")";
+  }
+  throw ParamError(key, value,
+                   "parameter '" + key + "': '" + value + "' is not accepted; accepted: " + list);
+}
+
 class LuaController : public Controller {
  public:
   ~LuaController() override { Close(); }
 
   void Init(const Params& params) override {
     const std::string script = params.GetString("script");
-    const std::string on_error = params.GetString("on_error", "stop");
-    if (on_error != "stop" && on_error != "continue") {
-      throw ParamError("on_error", on_error,
-                       "parameter 'on_error': '" + on_error +
-                           "' is not accepted; accepted: stop (a Lua error in step() ends the "
-                           "run; the default), continue (it is logged and that robot's script "
-                           "stops, as in ARGoS)");
-    }
+    const std::string on_error =
+        ChoiceParam(params, "on_error",
+                    {{"stop", "a Lua error in step() ends the run; the default"},
+                     {"continue", "it is logged and that robot's script stops, as in ARGoS"}});
     continue_on_error_ = on_error == "continue";
-    const std::string lua_state = params.GetString("lua_state", "shared");
-    if (lua_state != "shared" && lua_state != "own") {
-      throw ParamError("lua_state", lua_state,
-                       "parameter 'lua_state': '" + lua_state +
-                           "' is not accepted; accepted: shared (robots of this controller share "
-                           "Lua states, each with globals of its own; the default), own (a Lua "
-                           "state per robot, as ARGoS)");
-    }
+    const std::string lua_state = ChoiceParam(
+        params, "lua_state",
+        {{"shared",
+          "robots of this controller share Lua states, each with globals of its own; the "
+          "default"},
+         {"own", "a Lua state per robot, as ARGoS"}});
     folder_ = params.base_directory().empty() ? "." : params.base_directory();
     const std::filesystem::path path = std::filesystem::path(script).is_absolute()
                                            ? std::filesystem::path(script)
