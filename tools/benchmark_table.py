@@ -4,6 +4,7 @@ table of its medians into docs/benchmarks.md, between the markers
 <!-- NAME results: begin --> and <!-- NAME results: end -->.
 
     tools/benchmark_table.py NAME SCENE.xml [SCENE.xml ...] [--threads 1,2] [--repeat 3] [--build build]
+                             [--set PATH=VALUE ...]
 
 e.g. tools/benchmark_table.py mixed_11000 experiments/benchmarks/mixed_11000.xml experiments/benchmarks/diffusion_10000.xml
 Each row is one scene at one thread count: colony_bench's RESULT line (medians
@@ -19,9 +20,10 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DOC = os.path.join(ROOT, "docs", "benchmarks.md")
 
 
-def bench(build, scene, threads, repeat):
+def bench(build, scene, threads, repeat, sets=()):
     exe = os.path.join(ROOT, build, "bin", "colony_bench")
-    out = subprocess.run([exe, scene, "--threads", str(threads), "--repeat", str(repeat)], cwd=ROOT,
+    extra = [arg for s in sets for arg in ("--set", s)]
+    out = subprocess.run([exe, scene, "--threads", str(threads), "--repeat", str(repeat)] + extra, cwd=ROOT,
                          check=True, capture_output=True, text=True).stdout
     line = [l for l in out.splitlines() if l.startswith("RESULT ")][-1]
     return dict(kv.split("=", 1) for kv in line.split()[1:])
@@ -34,6 +36,8 @@ def main():
     p.add_argument("--threads", default="1,2")
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--build", default="build")
+    p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
+                   help="an override passed to colony_bench for every scene (repeatable)")
     a = p.parse_args()
     lines = ["",
              "| scene | threads | robot-steps/s | CPU ns per robot-step | bytes per robot (peak) | load | physics share | state hash |",
@@ -42,7 +46,7 @@ def main():
     for scene in a.scenes:
         for t in [int(x) for x in a.threads.split(",")]:
             loads.append(os.getloadavg()[0])
-            r = bench(a.build, scene, t, a.repeat)
+            r = bench(a.build, scene, t, a.repeat, a.set)
             lines.append("| %s | %d | %s | %s | %s | %s s | %s%% | `%s` |" % (
                 r["scene"], t, format(int(float(r["steps_per_s_median"])), ","), r["cpu_ns_per_robot_step"],
                 format(int(r["bytes_per_robot"]), ","), r["load_s_median"], r["physics_pct"], r["state_hash"]))
@@ -50,7 +54,7 @@ def main():
               "Medians of %d repetitions, measured %s with a load average of %.1f to %.1f before the runs; "
               "written by `tools/benchmark_table.py %s %s`." % (
                   a.repeat, datetime.date.today().isoformat(), min(loads), max(loads), a.name,
-                  " ".join(a.scenes)), ""]
+                  " ".join(a.scenes + ["--set " + x for x in a.set])), ""]
     docblock.replace_block(DOC, "%s results" % a.name, lines)
     print("docs/benchmarks.md: %s written" % a.name)
 
