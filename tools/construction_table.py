@@ -25,14 +25,13 @@ IR sensors saw sticking up out of the ditch) and unrepaired (the robot saw a
 bridge cube still not flat and did not cross)."""
 import argparse
 import os
-import csv
 import statistics
-import subprocess
 import sys
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 
 import docblock
+import runs
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DOC = os.path.join(ROOT, "docs", "construction.md")
@@ -55,22 +54,13 @@ def classify(r):
     return "timeout"
 
 
-def last_row(path):
-    with open(path) as f:
-        return list(csv.DictReader(f))[-1]
-
-
 def run(build, experiment, seed, out):
     """The last row of metrics.csv of `colony run EXPERIMENT --seed SEED`, with
     the controller's counts from the last row of its per-robot table."""
-    colony = os.path.join(ROOT, build, "bin", "colony")
-    subprocess.run([colony, "run", experiment, "--seed", str(seed), "--out", out, "--overwrite", "--quiet",
-                    "--set", "output.trajectories_every=100", "--set", "output.format=csv",
-                    "--set", "output.compress=none"], cwd=ROOT, check=True)
-    r = last_row(os.path.join(out, "metrics.csv"))
-    robot = last_row(os.path.join(out, "trajectories.csv"))
-    r["failed_grasps"] = robot["failed_grasps"]
-    for name in ("lost_approaches", "repairs", "unrepaired"):
+    r = runs.last_metrics(build, experiment, seed, out,
+                          ["output.trajectories_every=100", "output.format=csv", "output.compress=none"])
+    robot = runs.last_row(os.path.join(out, "trajectories.csv"))
+    for name in ("failed_grasps", "lost_approaches", "repairs", "unrepaired"):
         r[name] = robot[name]
     return r
 
