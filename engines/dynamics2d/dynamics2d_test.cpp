@@ -1,5 +1,7 @@
 // dynamics2d: robots push movable objects, cannot move fixed ones, and slip
 // when they push too hard.
+#include <box2d/box2d.h>
+
 #include "actuators/differential_steering/differential_steering.h"
 #include "actuators/gripper/gripper_state.h"
 #include "sensors/wheel_encoders/wheel_encoders.h"
@@ -93,6 +95,27 @@ TEST(Dynamics2d, BadParametersAreRejectedWithElementAndLine) {
               std::string::npos)
         << bad << ": " << message;
   }
+}
+
+// Box2D's own profiling timer reads the clock six times per island per step;
+// Colony replaces it with one that reads nothing (box2d_timer.cpp). If a
+// change of linking lost that, every dynamics2d run would be a quarter slower.
+TEST(Dynamics2d, Box2DsProfilingTimerReadsNoClock) {
+  b2World world(b2Vec2(0, 0));
+  b2CircleShape disc;
+  disc.m_radius = 0.085f;
+  for (int i = 0; i < 500; ++i) {
+    b2BodyDef def;
+    def.type = b2_dynamicBody;
+    def.position.Set(0.2f * static_cast<float>(i % 25), 0.2f * static_cast<float>(i / 25));
+    def.linearVelocity.Set(0.1f, 0.05f);
+    world.CreateBody(&def)->CreateFixture(&disc, 1.0f);
+  }
+  for (int t = 0; t < 20; ++t) world.Step(0.05f, 8, 3);
+  const b2Profile& profile = world.GetProfile();
+  EXPECT_EQ(profile.step, 0.0f);
+  EXPECT_EQ(profile.solve, 0.0f);
+  EXPECT_EQ(profile.solveVelocity, 0.0f);
 }
 
 }  // namespace
