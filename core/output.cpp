@@ -23,9 +23,7 @@
 #ifndef COLONY_VERSION
 #define COLONY_VERSION "unknown"
 #endif
-#ifndef COLONY_GIT_REVISION
-#define COLONY_GIT_REVISION "unknown"
-#endif
+#include "colony_git_revision.h"  // COLONY_GIT_REVISION (core/CMakeLists.txt)
 
 namespace colony {
 

@@ -367,8 +367,8 @@ TEST(RunFolder, SummaryCarriesProvenance) {
   EXPECT_EQ(SummaryProblem(text), "");
   const auto j = nlohmann::json::parse(text);
   EXPECT_EQ(j["colony_version"], ColonyVersion());
-  EXPECT_TRUE(
-      std::regex_match(j["git_revision"].get<std::string>(), std::regex("[0-9a-f]{40}|unknown")))
+  EXPECT_TRUE(std::regex_match(j["git_revision"].get<std::string>(),
+                               std::regex("[0-9a-f]{40}(-dirty)?|unknown")))
       << j["git_revision"];
   EXPECT_EQ(
       j["command_line"],
