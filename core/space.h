@@ -213,6 +213,29 @@ class Space {
   // Appends to `out` every solid entity whose footprint may overlap the
   // rectangle [x0, x1] x [y0, y1], each once, in slot order per grid cell.
   void Gather(double x0, double y0, double x1, double y1, std::vector<uint32_t>& out) const;
+  // For callers that gather around many places in turn (a sensor, robot by
+  // robot): asks for what Gather over the same rectangle will read, so that
+  // it arrives while the caller works on the places before. With a swarm
+  // larger than the caches, each read is a miss at a random place. First the
+  // cells' starts (a few places ahead), then, once those are in the cache,
+  // the cells' entries (one or two places ahead). Changes no result.
+  [[gnu::always_inline]] void PrefetchGatherCells(double x0, double y0, double x1,
+                                                  double y1) const {
+    const double m = max_movable_radius_;
+    const int cx0 = CellX(x0 - m);
+    for (int cy = CellY(y0 - m), cy1 = CellY(y1 + m); cy <= cy1; ++cy) {
+      __builtin_prefetch(&cell_start_[static_cast<size_t>(cy) * nx_ + cx0]);
+    }
+  }
+  [[gnu::always_inline]] void PrefetchGatherItems(double x0, double y0, double x1,
+                                                  double y1) const {
+    const double m = max_movable_radius_;
+    const int cx0 = CellX(x0 - m);
+    for (int cy = CellY(y0 - m), cy1 = CellY(y1 + m); cy <= cy1; ++cy) {
+      __builtin_prefetch(movable_items_.data() +
+                         cell_start_[static_cast<size_t>(cy) * nx_ + cx0].movable);
+    }
+  }
   // The movable solid entities' slots grouped by grid cell, cells row by row,
   // as of the last UpdateIndex: a spatially coherent order for sweeps.
   const std::vector<uint32_t>& movable_by_cell() const { return movable_items_; }

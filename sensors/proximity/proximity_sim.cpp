@@ -89,15 +89,63 @@ class ProximitySystem : public SensorSystem {
   // readings are exactly those of casting every ray at every gathered entity.
   void Update(size_t begin, size_t end) override {
     const Space& space = sim().space();
-    // This thread's list, kept from tick to tick so that a warm step does not
+    // This thread's lists, kept from tick to tick so that a warm step does not
     // allocate; taken once per chunk (a thread_local costs a lookup per use).
-    static thread_local std::vector<uint32_t> scratch;
-    std::vector<uint32_t>& near = scratch;
-    near.clear();
-    near.reserve(64);  // once per thread: enough for any crowd seen so far
-    for (size_t k = begin; k < end; ++k) {
+    static thread_local std::vector<uint32_t> scratch, scratch_ahead;
+    std::vector<uint32_t>* near_list = &scratch;
+    std::vector<uint32_t>* ahead = &scratch_ahead;
+    near_list->reserve(64);  // once per thread: enough for any crowd seen so far
+    ahead->reserve(64);
+    // A robot's neighbours are wherever they were placed in the space's
+    // arrays, and with a swarm larger than the caches so is its own place in
+    // the grid: what the robots a few ahead will read is asked for early (the
+    // grid's cells three ahead, their entries two ahead, the neighbours'
+    // poses and footprints one ahead), so that it arrives while the robot
+    // before is sensing.
+    auto query = [&](size_t k, auto&& fn) {
+      const ProximityInstance& p = instances_[k];
+      const Vec3& position = space.pose(p.robot.index).position;
+      const double reach = p.mount->radius + (range_ > 0 ? range_ : p.mount->range);
+      fn(position.x() - reach, position.y() - reach, position.x() + reach, position.y() + reach);
+    };
+    auto prefetch_cells = [&](size_t k) {
+      if (k < end && instances_[k].alive) {
+        query(k, [&](double x0, double y0, double x1, double y1) {
+          space.PrefetchGatherCells(x0, y0, x1, y1);
+        });
+      }
+    };
+    auto prefetch_items = [&](size_t k) {
+      if (k < end && instances_[k].alive) {
+        query(k, [&](double x0, double y0, double x1, double y1) {
+          space.PrefetchGatherItems(x0, y0, x1, y1);
+        });
+      }
+    };
+    auto next_alive = [&](size_t k) {
+      while (k < end && !instances_[k].alive) ++k;
+      return k;
+    };
+    auto gather_ahead = [&](size_t k) {
+      ahead->clear();
+      query(k, [&](double x0, double y0, double x1, double y1) {
+        space.Gather(x0, y0, x1, y1, *ahead);
+      });
+      for (uint32_t o : *ahead) {
+        __builtin_prefetch(&space.pose(o));
+        __builtin_prefetch(&space.geometry(o));
+      }
+    };
+    size_t following = next_alive(begin);
+    if (following < end) gather_ahead(following);
+    for (size_t k = following; k < end; k = following) {
       ProximityInstance& p = instances_[k];
-      if (!p.alive) continue;
+      std::swap(near_list, ahead);
+      prefetch_cells(k + 3);
+      prefetch_items(k + 2);
+      following = next_alive(k + 1);
+      if (following < end) gather_ahead(following);
+      std::vector<uint32_t>& near = *near_list;
       const uint32_t self = p.robot.index;
       const Pose& pose = space.pose(self);
       const RingMount& m = *p.mount;
@@ -105,8 +153,6 @@ class ProximitySystem : public SensorSystem {
       const double reach = m.radius + range;
       const Vec2 c = pose.position.head<2>();
       const double z = pose.position.z() + m.elevation;
-      near.clear();
-      space.Gather(c.x() - reach, c.y() - reach, c.x() + reach, c.y() + reach, near);
       // Keep the neighbours whose height spans the sensors' plane and whose
       // footprint comes within `reach` of the robot's axis: a ray hit at a
       // distance t <= range from the body's surface lies m.radius + t from the
