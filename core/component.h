@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/huge_pages.h"
 #include "core/state_hash.h"
 
 namespace colony {
@@ -77,6 +78,8 @@ class ComponentPool final : public ComponentPoolBase {
   void Reserve(size_t more) {
     items_.reserve(items_.size() + more);
     owners_.reserve(owners_.size() + more);
+    AdviseHugePages(items_);
+    AdviseHugePages(owners_);
   }
   T& operator[](uint32_t index) { return items_[index]; }
   const T& operator[](uint32_t index) const { return items_[index]; }

@@ -6,8 +6,9 @@
 #pragma once
 
 #include <algorithm>
-#include <deque>
+#include <cstddef>
 #include <memory>
+#include <new>
 #include <span>
 #include <string>
 #include <type_traits>
@@ -15,6 +16,7 @@
 
 #include "core/config.h"
 #include "core/control_interface.h"
+#include "core/huge_pages.h"
 #include "core/noise.h"
 #include "core/registry.h"
 #include "core/simulation_bound.h"
@@ -46,33 +48,61 @@ struct InstanceBase : InstanceBaseWithoutStream {
 
 // Small arrays of many robots (device tables, readings) carved from shared
 // blocks, with stable addresses: a heap array per robot costs malloc's
-// header and rounding, and a call to malloc at load.
+// header and rounding, and a call to malloc at load. T is trivially
+// copyable; what Take returns is value-initialised.
 template <class T>
 class ArrayBlocks {
  public:
   std::span<T> Take(size_t n) {
     if (n == 0) return {};
     if (blocks_.empty() || used_ + n > size_) {
-      size_ = std::max<size_t>(n, kBlock);
-      blocks_.push_back(std::make_unique<T[]>(size_));
+      // Past kSmallBlocks blocks (a big swarm), blocks of 8 MB on huge pages
+      // (core/huge_pages.h); memory is touched only as it is taken.
+      const bool large = blocks_.size() >= kSmallBlocks;
+      size_ = std::max<size_t>(n, large ? kLargeBytes / sizeof(T) : kBlock);
+      blocks_.push_back(std::make_unique_for_overwrite<T[]>(size_));
+      if (large) AdviseHugePages(blocks_.back().get(), size_ * sizeof(T));
       used_ = 0;
     }
     used_ += n;
-    return {blocks_.back().get() + used_ - n, n};
+    T* taken = blocks_.back().get() + used_ - n;
+    std::fill_n(taken, n, T{});
+    return {taken, n};
   }
 
  private:
-  static constexpr size_t kBlock = 4096;
+  static_assert(std::is_trivially_copyable_v<T>);
+  static constexpr size_t kBlock = 4096, kSmallBlocks = 256, kLargeBytes = size_t{8} << 20;
   std::vector<std::unique_ptr<T[]>> blocks_;
   size_t used_ = 0, size_ = 0;
 };
 
-// Instances with stable addresses (controllers keep pointers to them).
+// Instances with stable addresses (controllers keep pointers to them), in
+// blocks of kBlock: the first from malloc, touched only as instances are
+// added; the next ones (swarms of more than kBlock robots) aligned on and
+// advised for huge pages (core/huge_pages.h).
 template <class Instance>
 class InstanceStore {
  public:
+  InstanceStore() = default;
+  InstanceStore(const InstanceStore&) = delete;
+  InstanceStore& operator=(const InstanceStore&) = delete;
+  ~InstanceStore() {
+    for (size_t i = 0; i < size_; ++i) (*this)[i].~Instance();
+    for (size_t b = 0; b < blocks_.size(); ++b)
+      ::operator delete (blocks_[b], std::align_val_t{AlignmentOf(b)});
+  }
+
   Instance& Add(EntityHandle robot, const RandomStream& rng) {
-    Instance& item = items_.emplace_back();
+    if (size_ == blocks_.size() * kBlock) {
+      const size_t b = blocks_.size();
+      blocks_.reserve(b + 1);
+      void* block = ::operator new (kBlock * sizeof(Instance), std::align_val_t{AlignmentOf(b)});
+      if (b > 0) AdviseHugePages(block, kBlock * sizeof(Instance));
+      blocks_.push_back(static_cast<Instance*>(block));
+    }
+    Instance& item = *::new (static_cast<void*>(blocks_.back() + size_ % kBlock)) Instance();
+    ++size_;
     item.robot = robot;
     if constexpr (std::is_base_of_v<InstanceBase, Instance>) {
       item.rng = rng;
@@ -82,19 +112,26 @@ class InstanceStore {
     return item;
   }
   void Remove(const void* interface) {
-    for (auto& item : items_) {
+    for (size_t i = 0; i < size_; ++i) {
+      auto& item = (*this)[i];
       if (static_cast<const void*>(static_cast<const typename Instance::Interface*>(&item)) ==
           interface) {
         item.alive = false;
       }
     }
   }
-  size_t size() const { return items_.size(); }
-  Instance& operator[](size_t i) { return items_[i]; }
-  const Instance& operator[](size_t i) const { return items_[i]; }
+  size_t size() const { return size_; }
+  Instance& operator[](size_t i) { return blocks_[i / kBlock][i % kBlock]; }
+  const Instance& operator[](size_t i) const { return blocks_[i / kBlock][i % kBlock]; }
 
  private:
-  std::deque<Instance> items_;
+  static constexpr size_t kBlock = size_t{1} << 15;
+  static constexpr size_t kHugePage = size_t{2} << 20;
+  static constexpr size_t AlignmentOf(size_t block) {
+    return block > 0 ? kHugePage : std::max(alignof(Instance), alignof(std::max_align_t));
+  }
+  std::vector<Instance*> blocks_;
+  size_t size_ = 0;
 };
 
 class SensorSystem : public SimulationBound {

@@ -8,6 +8,7 @@
 
 #include "core/bounds.h"
 #include "core/geometry2d.h"
+#include "core/huge_pages.h"
 
 namespace colony {
 
@@ -88,8 +89,18 @@ PlacementIndex::PlacementIndex(double cell, const Space& space, size_t expected)
   base_y_ = static_cast<int64_t>(std::floor(lo.y() / cell_));
   nx_ = static_cast<int64_t>(std::floor(hi.x() / cell_)) - base_x_ + 1;
   ny_ = static_cast<int64_t>(std::floor(hi.y() / cell_)) - base_y_ + 1;
-  head_.assign(static_cast<size_t>(nx_ * ny_), kNone);
-  tail_.assign(head_.size(), kNone);
+  // The grid is read and written at random, the lists filled in order.
+  const size_t cells = static_cast<size_t>(nx_ * ny_);
+  head_.reserve(cells);
+  tail_.reserve(cells);
+  items_.reserve(expected);
+  entries_.reserve(2 * expected);  // a footprint spans 1.8 cells on average at 0.5 m
+  AdviseHugePages(head_);
+  AdviseHugePages(tail_);
+  AdviseHugePages(items_);
+  AdviseHugePages(entries_);
+  head_.assign(cells, kNone);
+  tail_.assign(cells, kNone);
 }
 
 const PlacementIndex::Item* PlacementIndex::FindOverlap(const Pose& pose, const Geometry& g,

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/bounds.h"
+#include "core/huge_pages.h"
 
 namespace colony {
 
@@ -49,6 +50,18 @@ void Space::Reserve(size_t more, const EntityInit& like) {
   for (const auto& item : like.components.items_) item->ReserveIn(*this, more);
   component_refs_.reserve(component_refs_.size() + more * like.components.size());
   leds_.reserve(leds_.size() + more * static_cast<size_t>(like.led_count));
+  // Filled in order as the block is placed; large enough only in big swarms.
+  AdviseHugePages(poses_);
+  AdviseHugePages(twists_);
+  AdviseHugePages(geometries_);
+  AdviseHugePages(colors_);
+  AdviseHugePages(masses_);
+  AdviseHugePages(generation_);
+  AdviseHugePages(led_offset_);
+  AdviseHugePages(light_slot_);
+  AdviseHugePages(component_begin_);
+  AdviseHugePages(component_refs_);
+  AdviseHugePages(leds_);
   GrowIdTable(n);
 }
 
@@ -67,6 +80,8 @@ void Space::GrowIdTable(size_t entries) {
   size_t size = 16;
   while (size < 2 * entries) size *= 2;
   std::vector<uint32_t> old = std::move(id_table_);
+  id_table_.reserve(size);
+  AdviseHugePages(id_table_);  // probed at random
   id_table_.assign(size, kNoSlot);
   id_table_used_ = 0;
   for (uint32_t slot : old) {

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "core/device.h"
+
 namespace colony {
 namespace {
 
@@ -323,6 +325,51 @@ TEST_F(core_test_space, SmallArenaKeepsHalfMetreCells) {
   space.Add(Robot("r", robot_type, 0, 0));
   space.UpdateIndex();
   EXPECT_EQ(space.cell_size(), 0.5);
+}
+
+// Device instances and readings of a big swarm: past the first blocks
+// (core/device.h) they come from huge-page blocks, and controllers keep
+// pointers to them, so every address must stay put as robots are added.
+struct TestInstance : InstanceBaseWithoutStream {
+  using Interface = TestInstance;
+  int value = -1;
+};
+
+TEST(core_test_device_blocks, InstancesKeepTheirAddressesAcrossBlocks) {
+  InstanceStore<TestInstance> store;
+  std::vector<TestInstance*> added;
+  const RandomStream rng = RandomStream::For(1, "test", "");
+  for (uint32_t i = 0; i < 70'000; ++i) {
+    TestInstance& item = store.Add(EntityHandle{i, 0}, rng);
+    EXPECT_EQ(item.value, -1);
+    item.value = static_cast<int>(i);
+    added.push_back(&item);
+  }
+  ASSERT_EQ(store.size(), 70'000u);
+  for (uint32_t i = 0; i < 70'000; ++i) {
+    ASSERT_EQ(&store[i], added[i]);
+    ASSERT_EQ(store[i].value, static_cast<int>(i));
+    ASSERT_EQ(store[i].robot.index, i);
+  }
+  store.Remove(added[40'000]);
+  EXPECT_FALSE(store[40'000].alive);
+  EXPECT_TRUE(store[39'999].alive && store[40'001].alive);
+}
+
+TEST(core_test_device_blocks, ArrayBlocksGiveZeroedSeparateArrays) {
+  ArrayBlocks<uint32_t> blocks;
+  std::vector<std::span<uint32_t>> taken;
+  // 24 at a time, as a proximity ring: 1.2 million values, past the small blocks.
+  for (uint32_t i = 0; i < 50'000; ++i) {
+    const std::span<uint32_t> s = blocks.Take(24);
+    ASSERT_EQ(s.size(), 24u);
+    EXPECT_TRUE(std::all_of(s.begin(), s.end(), [](uint32_t v) { return v == 0; }));
+    std::fill(s.begin(), s.end(), i);
+    taken.push_back(s);
+  }
+  for (uint32_t i = 0; i < 50'000; ++i) {
+    ASSERT_TRUE(std::all_of(taken[i].begin(), taken[i].end(), [i](uint32_t v) { return v == i; }));
+  }
 }
 
 }  // namespace
