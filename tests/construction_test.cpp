@@ -74,7 +74,8 @@ TEST(construction, TheTowerIsFoundWhereItStandsNotWhereTheMapSays) {
   ASSERT_NE(xml.find(params), std::string::npos);
   ASSERT_NE(xml.find(first_cube), std::string::npos);
   xml.replace(xml.find(params), params.size(), params + " tower_built=\"1\"");
-  xml.insert(xml.find(first_cube), "    <cube id=\"base\"><body position=\"0.54,0.035,0\"/></cube>\n");
+  xml.insert(xml.find(first_cube),
+             "    <cube id=\"base\"><body position=\"0.54,0.035,0\"/></cube>\n");
   auto sim = LoadXml(xml);
   while (!sim->Done()) sim->Step();
   EXPECT_EQ(Metric(*sim, "success"), 1);

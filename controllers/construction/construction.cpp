@@ -25,12 +25,19 @@
 // there, not the manipulator's IR sensors: those are on the head's side
 // opposite the magnet, so while the magnet holds a cube in front they face
 // the robot's body and read 0 (sensors/manipulator/README.md; the seed's
-// robot had them where they looked ahead while holding). The ring's two
+// robot scanned with them while holding a cube, so on its head they must
+// have looked ahead there, on "another side" than the magnet's, which the
+// seed does not describe further). The ring's two
 // sensors flanking the front, 6 cm up, see the tower's lower cube below the
 // held one; when the larger of their readings puts the tower's face half a
 // cube short of the held cube's centre, the held cube is over the tower's
 // middle. The camera's place (1 cm further on) is the backstop if the ring
 // sees nothing.
+//
+// After letting a cube go on the tower, the manipulator's IR side is turned
+// forwards (nothing held now) and reads the face of the cube below, then of
+// the new one: not one plane, or not across the same sensors, is a cube not
+// stacked straight, counted (not mended).
 //
 // Each bridge cube let go is checked with the robot's own sensors (the
 // manipulator's IR sensors, lowest, then the camera): a cube jammed across
@@ -55,6 +62,7 @@
 //   ditch_width  m (0.07)
 //   speed        m/s (0.1)
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -162,6 +170,10 @@ constexpr double kCheckElevation = kLowElevation;
 constexpr double kJammedSeen = 0.12;
 // Below this sum the face is at the edge of the sensors' range.
 constexpr double kIrFaint = 0.15;
+// Checking a cube put on the tower: its face and the face of the cube below
+// it, seen by the manipulator's IR sensors, more than this apart is a cube
+// not stacked straight.
+constexpr double kStackedFace = 0.008;  // m
 
 class Construction : public colony::Controller {
  public:
@@ -209,6 +221,7 @@ class Construction : public colony::Controller {
     values.Set("repairs", repair_count_);
     values.Set("unrepaired", unrepaired_);
     values.Set("tower_unseen", tower_unseen_);
+    values.Set("tower_misplaced", tower_misplaced_);
   }
 
   void ControlStep() override {
@@ -511,8 +524,21 @@ class Construction : public colony::Controller {
           ticks_in_phase_ = 0;
           break;
         }
-        if (ticks_in_phase_ < 3) break;  // an image from here
-        const auto top = LocateTower();
+        if (ticks_in_phase_ < 3) {  // an image from here
+          looked_ = {};
+          looks_seen_ = 0;
+          break;
+        }
+        // Five images: the pose's noise (0.005 rad of heading is 2 mm aside
+        // at 37 cm) averaged out.
+        if (const auto seen = LocateTower()) {
+          looked_.x += seen->x;
+          looked_.y += seen->y;
+          ++looks_seen_;
+        }
+        if (ticks_in_phase_ < 7) break;
+        std::optional<Point> top;
+        if (looks_seen_ > 0) top = Point{looked_.x / looks_seen_, looked_.y / looks_seen_};
         if (!top) {
           // Not seen (hidden, or off the image): on where it was thought to be.
           ++tower_unseen_;
@@ -604,9 +630,65 @@ class Construction : public colony::Controller {
         if (!arm_->holding() && arm_->magnet() <= 0) {
           manipulator_->SetElevation(arm_->elevation() + 0.01);  // well detached
           start_ = {x_, y_};
-          Next(building_tower_ ? Phase::kBackOff : Phase::kCheckBack);
+          if (!building_tower_) {
+            Next(Phase::kCheckBack);
+          } else {
+            Next(placed_ > 0 ? Phase::kTowerCheckBack : Phase::kBackOff);
+          }
         }
         break;
+      case Phase::kTowerCheckBack:
+        // A cube put on the tower: back off 3 cm, for the head to turn clear
+        // of the tower.
+        wheels_->SetLinearVelocity(-0.02, -0.02);
+        if (std::hypot(x_ - start_.x, y_ - start_.y) >= 0.03) {
+          Stop();
+          below_face_.reset();
+          Next(Phase::kTowerCheck);
+        }
+        break;
+      case Phase::kTowerCheck: {
+        // Does the cube sit level on the tower? The manipulator's IR side
+        // turned forwards, at the height of the cube below, then of the new
+        // one: stacked straight, the two faces are one plane, seen at the
+        // same distance by the two middle sensors and across the same
+        // sensors of the six; half on, or fallen, the new cube's face is
+        // nearer or farther, 2 cm or more aside (two sensors more or fewer
+        // see it), or not there.
+        Stop();
+        manipulator_->SetIrSide();
+        const bool below = !below_face_;
+        const double level = (placed_ - (below ? 1 : 0)) * kCubeSide + 0.5 * kCubeSide;
+        manipulator_->SetElevation(level);
+        if (std::abs(std::remainder(arm_->rotation() - M_PI, 2 * M_PI)) > 0.03 ||
+            std::abs(arm_->elevation() - level) > 0.003) {
+          ticks_in_phase_ = 0;
+          break;
+        }
+        if (ticks_in_phase_ < 3) break;
+        const double face = IrFace();
+        const auto& ir = arm_->readings();
+        if (below) {
+          below_face_ = face;
+          for (size_t i = 0; i < ir.size() && i < below_sees_.size(); ++i) {
+            below_sees_[i] = ir[i].value > 0.1;
+          }
+          ticks_in_phase_ = 0;
+          break;
+        }
+        int differ = 0;
+        for (size_t i = 0; i < ir.size() && i < below_sees_.size(); ++i) {
+          differ += (ir[i].value > 0.1) != below_sees_[i];
+        }
+        if (*below_face_ > 0 &&
+            (face <= 0 || std::abs(face - *below_face_) > kStackedFace || differ >= 2)) {
+          ++tower_misplaced_;
+        }
+        manipulator_->SetMagnetSide();
+        manipulator_->SetElevation(kCarryElevation);
+        Next(Phase::kBackOff);
+        break;
+      }
       case Phase::kCheckBack:
         // A bridge cube let go: back off 4 cm, clear of it, to check it.
         wheels_->SetLinearVelocity(-0.02, -0.02);
@@ -757,6 +839,8 @@ class Construction : public colony::Controller {
     kToSite,
     kFaceSite,
     kLookTower,
+    kTowerCheckBack,
+    kTowerCheck,
     kApproachSite,
     kAlignOverDitch,
     kLower,
@@ -1165,6 +1249,15 @@ class Construction : public colony::Controller {
   static double RingReadingAt(double ahead) {
     return 0.01 / std::max(0.002, (ahead - kRingRadius) / std::cos(7.5 * M_PI / 180));
   }
+  // How far ahead of the manipulator's IR face a face square to it is, from
+  // the two middle IR sensors (both must see it; rays 7.5 degrees off the
+  // face's normal), or 0 when either sees nothing.
+  double IrFace() const {
+    const auto& ir = arm_->readings();
+    const double right = ir[2].value, left = ir[3].value;
+    if (right < 0.05 || left < 0.05) return 0;
+    return 0.5 * (0.01 / right + 0.01 / left) * std::cos(7.5 * M_PI / 180);
+  }
   double FrontProximity() const {
     const auto& r = proximity_->readings();
     return std::max(r.front().value, r.back().value);  // the two sensors either side of the front
@@ -1216,6 +1309,11 @@ class Construction : public colony::Controller {
   bool repairing_ = false;
   int tower_built_ = 0, tower_looks_ = 0, tower_unseen_ = 0;
   double staging_back_ = kFarLook;
+  Point looked_;
+  std::optional<double> below_face_;
+  std::array<bool, 6> below_sees_{};
+  int tower_misplaced_ = 0;
+  int looks_seen_ = 0;
   int placed_ = 0, stage_ = 1, lineups_ = 0, vantage_index_ = 0, ticks_ = 0;
   double turned_ = 0, last_yaw_ = 0, first_along_ = -0.5 * (kCubeSide + 0.012);
   Point vantage_;
