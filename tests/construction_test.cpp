@@ -83,7 +83,7 @@ TEST(construction, TheTowerIsFoundWhereItStandsNotWhereTheMapSays) {
   EXPECT_EQ(Metric(*sim, "cubes_tilted"), 0);
   // The top cube stands two cube heights up, over the first one.
   const Space& space = sim->space();
-  Vec3 top;
+  Vec3 top(0, 0, 0);
   for (uint32_t c : space.OfType(const_cast<Space&>(space).TypeId("cube"))) {
     if (space.pose(c).position.z() > top.z()) top = space.pose(c).position;
   }
@@ -198,6 +198,10 @@ TEST(construction, BadParametersAreNamed) {
   EXPECT_NE(bad_task.find("'roof' is not accepted; accepted: bridge, tower, remote"),
             std::string::npos)
       << bad_task;
+  const std::string bad_built = with("site=\"0.5,0\"", "site=\"0.5,0\" tower_built=\"3\"");
+  EXPECT_NE(bad_built.find("parameter 'tower_built': 3 is out of range; accepted: [0, 2]"),
+            std::string::npos)
+      << bad_built;
   const std::string no_camera = with("<camera preset=\"marxbot_front_camera\"/>", "");
   EXPECT_NE(no_camera.find("camera"), std::string::npos) << no_camera;
 }
