@@ -466,6 +466,7 @@ class Construction : public colony::Controller {
         }
         break;
       case Phase::kRetreatAndRetry:
+        staging_back_ = kFarLook;  // a cube dropped on the way: the next looks from afar first
         manipulator_->DisengageMagnet();
         manipulator_->SetMagnetSide();
         wheels_->SetLinearVelocity(-0.05, -0.05);
