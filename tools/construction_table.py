@@ -22,7 +22,12 @@ IR approaches the controller gave up (lost_approaches: no cube came nearer).
 A run whose last failure was such a grasp still ends as a timeout. Likewise
 the bridge checks: repairs (attempts to mend a bridge cube the manipulator's
 IR sensors saw sticking up out of the ditch) and unrepaired (the robot saw a
-bridge cube still not flat and did not cross)."""
+bridge cube still not flat and did not cross). And the looks at the tower that
+did not find its top in the image (tower_unseen: the robot then stacked on
+where it last thought the tower stood), and the cubes put on the tower that the
+manipulator's IR sensors then saw not stacked straight (tower_misplaced: half
+on, aside, or fallen off; counted, not mended). A run stops on success, so the
+last cube's check is counted only in runs that did not succeed."""
 import argparse
 import os
 import statistics
@@ -60,7 +65,8 @@ def run(build, experiment, seed, out):
     r = runs.last_metrics(build, experiment, seed, out,
                           ["output.trajectories_every=100", "output.format=csv", "output.compress=none"])
     robot = runs.last_row(os.path.join(out, "trajectories.csv"))
-    for name in ("failed_grasps", "lost_approaches", "repairs", "unrepaired"):
+    for name in ("failed_grasps", "lost_approaches", "repairs", "unrepaired", "tower_unseen",
+                 "tower_misplaced"):
         r[name] = robot[name]
     return r
 
@@ -86,8 +92,9 @@ def main():
              "| experiment | Colony: success | Colony: mean time (median, range) | seed 001: success | "
              "seed 001: mean time | Colony: fell into the ditch | cube half on / jammed | timeout | "
              "grasps by a corner (runs) | IR approaches given up (runs) | jammed bridge cube: repair "
-             "attempts (runs) | bridge seen unfinished, not crossed |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "attempts (runs) | bridge seen unfinished, not crossed | tower not found in the image (runs) | "
+             "tower cube seen not stacked straight (runs) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     per_seed = []
     for name, path, seed_success, seed_time in TASKS:
         rows = [results[(name, s)] for s in SEEDS]
@@ -103,11 +110,14 @@ def main():
         lost = [int(float(r["lost_approaches"])) for r in rows]
         repairs = [int(float(r["repairs"])) for r in rows]
         unrepaired = [int(float(r["unrepaired"])) for r in rows]
-        lines.append("| %s | %d / %d (%.0f%%) | %s | %s | %s | %d | %d | %d | %d (%d) | %d (%d) | %d (%d) | %d |" % (
+        unseen = [int(float(r["tower_unseen"])) for r in rows]
+        misplaced = [int(float(r["tower_misplaced"])) for r in rows]
+        lines.append("| %s | %d / %d (%.0f%%) | %s | %s | %s | %d | %d | %d | %d (%d) | %d (%d) | %d (%d) | %d | %d (%d) | %d (%d) |" % (
             name, ok, len(rows), 100.0 * ok / len(rows), timing, seed_success, seed_time,
             kinds.count("fell"), kinds.count("half_on"), kinds.count("timeout"),
             sum(corner), sum(1 for c in corner if c), sum(lost), sum(1 for c in lost if c),
-            sum(repairs), sum(1 for c in repairs if c), sum(1 for c in unrepaired if c)))
+            sum(repairs), sum(1 for c in repairs if c), sum(1 for c in unrepaired if c),
+            sum(unseen), sum(1 for c in unseen if c), sum(misplaced), sum(1 for c in misplaced if c)))
         per_seed.append("%s: %s." % (name, ", ".join(
             "%d %s" % (s, "%.0f s" % float(r["outcome_time"]) if k == "success" else k.replace("_", " "))
             for s, r, k in zip(SEEDS, rows, kinds))))

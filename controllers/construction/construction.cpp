@@ -12,6 +12,33 @@
 // lie estimated by back-projecting the top's pixels onto the plane of the
 // cube tops.
 //
+// Stacking (seed 001, 7.2.4: "an orientation using the camera", then forward
+// until the manipulator's two middle IR sensors' sum passes a threshold, and
+// let go): the `site` is only the map's rough place of the tower. Holding
+// the next cube lowered (out of the camera's way), the robot finds the
+// tower's top in the image, its bright pixels back-projected onto the plane
+// of the top (as many cubes up as the tower has), the blob about a cube's
+// top nearest where the tower was thought to stand; it lines up on that
+// (the third cube: looked at again from 25 cm, the top 12 cm up being seen
+// at a glancing angle from farther), raises the cube over the top and
+// creeps on. It lets go when the front proximity ring says the tower is
+// there, not the manipulator's IR sensors: those are on the head's side
+// opposite the magnet, so while the magnet holds a cube in front they face
+// the robot's body and read 0 (sensors/manipulator/README.md; the seed's
+// robot scanned with them while holding a cube, so on its head they must
+// have looked ahead there, on "another side" than the magnet's, which the
+// seed does not describe further). The ring's two
+// sensors flanking the front, 6 cm up, see the tower's lower cube below the
+// held one; when the larger of their readings puts the tower's face half a
+// cube short of the held cube's centre, the held cube is over the tower's
+// middle. The camera's place (1 cm further on) is the backstop if the ring
+// sees nothing.
+//
+// After letting a cube go on the tower, the manipulator's IR side is turned
+// forwards (nothing held now) and reads the face of the cube below, then of
+// the new one: not one plane, or not across the same sensors, is a cube not
+// stacked straight, counted (not mended).
+//
 // Each bridge cube let go is checked with the robot's own sensors (the
 // manipulator's IR sensors, lowest, then the camera): a cube jammed across
 // the ditch's edge is gone for again with the magnet (up to twice), and a
@@ -26,12 +53,16 @@
 //   site         "x,y"  bridge, remote: the middle of the bridge, on the
 //                ditch's centre line; tower: where the tower stands
 //   tower_site   "x,y"  remote: where the tower stands
+//   tower_built  0, 1 or 2: cubes the tower already has, standing about
+//                the site (the map's rough place; the robot finds them with
+//                its camera) (0)
 //   heading      degrees: the direction across the ditch from the robot's
 //                side (default 0: +x)
 //   goal         "x,y"  bridge, remote: where to drive once across
 //   ditch_width  m (0.07)
 //   speed        m/s (0.1)
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -92,6 +123,16 @@ constexpr double kCubeSide = 0.06;        // m
 constexpr double kGroundAhead = 0.065;    // m: the front ground sensor
 constexpr double kLowElevation = 0.03;    // m: the magnet level with a cube's lower half
 constexpr double kCarryElevation = 0.10;  // m
+// Looking for the tower while holding a cube: the held cube low (its top
+// 7 cm up), below the camera's rays to the tower's top.
+constexpr double kLookElevation = 0.04;  // m
+// Where the robot looks at the tower from: its axis this far back from the
+// tower's centre (the second cube's top, 12 cm up, is looked at again from
+// nearer).
+constexpr double kFarLook = 0.35, kNearLook = 0.25;  // m
+// The proximity ring's radius (the body's surface the readings are measured
+// from).
+constexpr double kRingRadius = 0.085;  // m
 // Front proximity reading (0.01 m / d) with a cube face 3.3 cm from the ring:
 // the cube's face then touches the magnet's.
 constexpr double kTouching = 0.22;
@@ -129,6 +170,10 @@ constexpr double kCheckElevation = kLowElevation;
 constexpr double kJammedSeen = 0.12;
 // Below this sum the face is at the edge of the sensors' range.
 constexpr double kIrFaint = 0.15;
+// Checking a cube put on the tower: its face and the face of the cube below
+// it, seen by the manipulator's IR sensors, more than this apart is a cube
+// not stacked straight.
+constexpr double kStackedFace = 0.008;  // m
 
 class Construction : public colony::Controller {
  public:
@@ -151,6 +196,11 @@ class Construction : public colony::Controller {
     ditch_width_ = params.GetDouble("ditch_width", 0.07, kCubeSide, 0.2);
     speed_ = params.GetDouble("speed", 0.1, 0.01, 0.3);
     building_tower_ = task_ == "tower";
+    tower_built_ = static_cast<int>(params.GetInt("tower_built", 0, 0, 2));
+    if (building_tower_) {
+      placed_ = tower_built_;
+      tower_ = site_;
+    }
     position_ = &GetSensor<colony::PositioningSensor>("positioning");
     proximity_ = &GetSensor<colony::ProximitySensor>("proximity");
     ground_ = &GetSensor<colony::GroundSensor>("ground");
@@ -170,6 +220,8 @@ class Construction : public colony::Controller {
     values.Set("lost_approaches", lost_approaches_);
     values.Set("repairs", repair_count_);
     values.Set("unrepaired", unrepaired_);
+    values.Set("tower_unseen", tower_unseen_);
+    values.Set("tower_misplaced", tower_misplaced_);
   }
 
   void ControlStep() override {
@@ -414,6 +466,7 @@ class Construction : public colony::Controller {
         }
         break;
       case Phase::kRetreatAndRetry:
+        staging_back_ = kFarLook;  // a cube dropped on the way: the next looks from afar first
         manipulator_->DisengageMagnet();
         manipulator_->SetMagnetSide();
         wheels_->SetLinearVelocity(-0.05, -0.05);
@@ -448,7 +501,10 @@ class Construction : public colony::Controller {
         break;
       case Phase::kFaceSite: {
         const Point ahead{x_ + across_.x, y_ + across_.y};
-        if (Face(ahead)) {
+        if (!Face(ahead)) break;
+        if (building_tower_ && placed_ > 0) {
+          Next(Phase::kLookTower);
+        } else {
           Next(Phase::kApproachSite);
           if (building_tower_) {
             // Over the tower's top with a centimetre to spare.
@@ -456,6 +512,60 @@ class Construction : public colony::Controller {
                                        (placed_ == 0 ? 0.005 : placed_ * kCubeSide + 0.01));
           }
         }
+        break;
+      }
+      case Phase::kLookTower: {
+        // build2, build3 (seed 001, 7.2.4): find the tower with the camera.
+        // The held cube lowered (carried higher it hides the tower's top from
+        // here), then the tower's top back-projected onto its plane; lined up
+        // again on where it stands (at most 3 times).
+        Stop();
+        manipulator_->SetElevation(kLookElevation);
+        if (std::abs(arm_->elevation() - kLookElevation) > 0.005) {
+          ticks_in_phase_ = 0;
+          break;
+        }
+        if (ticks_in_phase_ < 3) {  // an image from here
+          looked_ = {};
+          looks_seen_ = 0;
+          break;
+        }
+        // Five images: the pose's noise (0.005 rad of heading is 2 mm aside
+        // at 37 cm) averaged out.
+        if (const auto seen = LocateTower()) {
+          looked_.x += seen->x;
+          looked_.y += seen->y;
+          ++looks_seen_;
+        }
+        if (ticks_in_phase_ < 7) break;
+        std::optional<Point> top;
+        if (looks_seen_ > 0) top = Point{looked_.x / looks_seen_, looked_.y / looks_seen_};
+        if (!top) {
+          // Not seen (hidden, or off the image): on where it was thought to be.
+          ++tower_unseen_;
+        } else {
+          tower_ = *top;
+          // Aside of the line to it: line up again. Along the line the
+          // estimate matters less (the ring stops the approach).
+          const Point st = Staging();
+          const double aside = -(st.x - x_) * across_.y + (st.y - y_) * across_.x;
+          if (std::abs(aside) > 0.006 && tower_looks_ < 3) {
+            ++tower_looks_;
+            Next(Phase::kToSite);
+            break;
+          }
+          if (placed_ == 2 && staging_back_ > kNearLook) {
+            // The second cube's top, 3 cm below the camera, is seen at a
+            // glancing angle from 35 cm: look again from 25 cm.
+            staging_back_ = kNearLook;
+            Next(Phase::kToSite);
+            break;
+          }
+        }
+        tower_looks_ = 0;
+        staging_back_ = kFarLook;
+        manipulator_->SetElevation(kLowElevation + placed_ * kCubeSide + 0.01);
+        Next(Phase::kApproachSite);
         break;
       }
       case Phase::kApproachSite:
@@ -486,7 +596,8 @@ class Construction : public colony::Controller {
           const double level = kLowElevation + placed_ * kCubeSide + 0.01;
           if (std::abs(arm_->elevation() - level) > 0.005) {
             Stop();
-          } else if (FrontProximity() >= 0.35 || Ahead(Place()) < held_ahead_) {
+          } else if (FrontProximity() >= RingReadingAt(held_ahead_ - 0.5 * kCubeSide) ||
+                     Ahead(Place()) < held_ahead_ - 0.01) {
             Stop();
             Next(Phase::kRelease);
           } else {
@@ -520,9 +631,65 @@ class Construction : public colony::Controller {
         if (!arm_->holding() && arm_->magnet() <= 0) {
           manipulator_->SetElevation(arm_->elevation() + 0.01);  // well detached
           start_ = {x_, y_};
-          Next(building_tower_ ? Phase::kBackOff : Phase::kCheckBack);
+          if (!building_tower_) {
+            Next(Phase::kCheckBack);
+          } else {
+            Next(placed_ > 0 ? Phase::kTowerCheckBack : Phase::kBackOff);
+          }
         }
         break;
+      case Phase::kTowerCheckBack:
+        // A cube put on the tower: back off 3 cm, for the head to turn clear
+        // of the tower.
+        wheels_->SetLinearVelocity(-0.02, -0.02);
+        if (std::hypot(x_ - start_.x, y_ - start_.y) >= 0.03) {
+          Stop();
+          below_face_.reset();
+          Next(Phase::kTowerCheck);
+        }
+        break;
+      case Phase::kTowerCheck: {
+        // Does the cube sit level on the tower? The manipulator's IR side
+        // turned forwards, at the height of the cube below, then of the new
+        // one: stacked straight, the two faces are one plane, seen at the
+        // same distance by the two middle sensors and across the same
+        // sensors of the six; half on, or fallen, the new cube's face is
+        // nearer or farther, 2 cm or more aside (two sensors more or fewer
+        // see it), or not there.
+        Stop();
+        manipulator_->SetIrSide();
+        const bool below = !below_face_;
+        const double level = (placed_ - (below ? 1 : 0)) * kCubeSide + 0.5 * kCubeSide;
+        manipulator_->SetElevation(level);
+        if (std::abs(std::remainder(arm_->rotation() - M_PI, 2 * M_PI)) > 0.03 ||
+            std::abs(arm_->elevation() - level) > 0.003) {
+          ticks_in_phase_ = 0;
+          break;
+        }
+        if (ticks_in_phase_ < 3) break;
+        const double face = IrFace();
+        const auto& ir = arm_->readings();
+        if (below) {
+          below_face_ = face;
+          for (size_t i = 0; i < ir.size() && i < below_sees_.size(); ++i) {
+            below_sees_[i] = ir[i].value > 0.1;
+          }
+          ticks_in_phase_ = 0;
+          break;
+        }
+        int differ = 0;
+        for (size_t i = 0; i < ir.size() && i < below_sees_.size(); ++i) {
+          differ += (ir[i].value > 0.1) != below_sees_[i];
+        }
+        if (*below_face_ > 0 &&
+            (face <= 0 || std::abs(face - *below_face_) > kStackedFace || differ >= 2)) {
+          ++tower_misplaced_;
+        }
+        manipulator_->SetMagnetSide();
+        manipulator_->SetElevation(kCarryElevation);
+        Next(Phase::kBackOff);
+        break;
+      }
       case Phase::kCheckBack:
         // A bridge cube let go: back off 4 cm, clear of it, to check it.
         wheels_->SetLinearVelocity(-0.02, -0.02);
@@ -637,6 +804,8 @@ class Construction : public colony::Controller {
             scanned_ = false;
             seen_.clear();
             site_ = tower_site_;
+            tower_ = tower_site_;
+            placed_ = tower_built_;
             Next(Phase::kSearch);
           } else {
             Next(Phase::kDone);
@@ -670,6 +839,9 @@ class Construction : public colony::Controller {
     kBackOffHolding,
     kToSite,
     kFaceSite,
+    kLookTower,
+    kTowerCheckBack,
+    kTowerCheck,
     kApproachSite,
     kAlignOverDitch,
     kLower,
@@ -721,15 +893,28 @@ class Construction : public colony::Controller {
   // nearer and smaller, and lies in the dark band; a top higher up (a tower)
   // back-projects farther and larger.
   std::optional<Sighting> Look() {
+    std::optional<Sighting> best;
+    ForEachBlob([&](const std::vector<std::pair<int, int>>& blob, int w, int h, auto grey) {
+      if (blob.size() < 3) return;
+      const auto seen = Judge(blob, w, h, grey);
+      if (seen) Remember(seen->center);
+      if (seen && (!best || seen->range < best->range)) best = seen;
+    });
+    return best;
+  }
+
+  // Calls f(blob, w, h, grey) for each blob of bright pixels below the
+  // horizon (4-connected), bottom rows first.
+  template <class F>
+  void ForEachBlob(F f) const {
     const int w = camera_->width(), h = camera_->height();
-    if (w < 8 || h < 8) return std::nullopt;
+    if (w < 8 || h < 8) return;
     const int top_row = h / 2;
     std::vector<int> label(static_cast<size_t>(w) * h, -1);
     auto grey = [&](int u, int v) {
       const colony::Color c = camera_->At(u, v);
       return (c.r + c.g + c.b) / 3;
     };
-    std::optional<Sighting> best;
     std::vector<std::pair<int, int>> stack, blob;
     int blobs = 0;
     for (int v = h - 1; v >= top_row; --v) {
@@ -755,13 +940,9 @@ class Construction : public colony::Controller {
           }
         }
         ++blobs;
-        if (blob.size() < 3) continue;
-        const auto seen = Judge(blob, w, h, grey);
-        if (seen) Remember(seen->center);
-        if (seen && (!best || seen->range < best->range)) best = seen;
+        f(blob, w, h, grey);
       }
     }
-    return best;
   }
 
   template <typename Grey>
@@ -802,49 +983,90 @@ class Construction : public colony::Controller {
     s.center = mean;
     s.near = s.range < 0.7;
     if (s.near) {
-      // The lie: the direction in which the rectangle around the points is
-      // smallest (1 degree steps over 90).
-      double best_area = 1e9, best_yaw = 0, best_a = 0, best_b = 0;
-      Point best_mid;
-      for (int k = 0; k < 90; ++k) {
-        const double a = k * M_PI / 180, c = std::cos(a), sn = std::sin(a);
-        double lo1 = 1e9, hi1 = -1e9, lo2 = 1e9, hi2 = -1e9;
-        for (const Point& p : points) {
-          const double q1 = c * p.x + sn * p.y, q2 = -sn * p.x + c * p.y;
-          lo1 = std::min(lo1, q1);
-          hi1 = std::max(hi1, q1);
-          lo2 = std::min(lo2, q2);
-          hi2 = std::max(hi2, q2);
-        }
-        const double area = (hi1 - lo1) * (hi2 - lo2);
-        if (area < best_area) {
-          best_area = area;
-          best_yaw = a;
-          best_a = hi1 - lo1;
-          best_b = hi2 - lo2;
-          const double m1 = 0.5 * (lo1 + hi1), m2 = 0.5 * (lo2 + hi2);
-          best_mid = {c * m1 - sn * m2, sn * m1 + c * m2};
-        }
-      }
+      const Rectangle r = Fit(points);
       // The pixels' corners lie a little outside the top's edges.
-      if (std::max(best_a, best_b) > 0.1 || std::min(best_a, best_b) < 0.04) {
-        return std::nullopt;
-      }
-      s.yaw = best_yaw;
-      s.center = best_mid;
+      if (std::max(r.a, r.b) > 0.1 || std::min(r.a, r.b) < 0.04) return std::nullopt;
+      s.yaw = r.yaw;
+      s.center = r.mid;
     }
     if (!Region().Contains(s.center)) return std::nullopt;
     if (building_tower_ && placed_ > 0) {
-      // The tower itself: its top, higher than a cube's, back-projects
-      // beyond it on the same line of sight.
-      if (Distance(s.center, site_) < 0.15) return std::nullopt;
-      const double to_site = Distance(site_);
+      // The tower itself (where it was last seen): its top, higher than a
+      // cube's, back-projects beyond it on the same line of sight.
+      if (Distance(s.center, tower_) < 0.15) return std::nullopt;
+      const double to_site = Distance(tower_);
       const double apart = std::abs(std::remainder(
-          std::atan2(s.center.y - y_, s.center.x - x_) - std::atan2(site_.y - y_, site_.x - x_),
+          std::atan2(s.center.y - y_, s.center.x - x_) - std::atan2(tower_.y - y_, tower_.x - x_),
           2 * M_PI));
       if (s.range > to_site - 0.05 && apart < std::atan2(0.08, to_site) + 0.05) return std::nullopt;
     }
     return s;
+  }
+
+  // The smallest rectangle around `points` (1 degree steps over 90): its
+  // middle, the direction of its first side, and its sides.
+  struct Rectangle {
+    Point mid;
+    double yaw = 0, a = 0, b = 0;
+  };
+  static Rectangle Fit(const std::vector<Point>& points) {
+    Rectangle best;
+    double best_area = 1e9;
+    for (int k = 0; k < 90; ++k) {
+      const double a = k * M_PI / 180, c = std::cos(a), sn = std::sin(a);
+      double lo1 = 1e9, hi1 = -1e9, lo2 = 1e9, hi2 = -1e9;
+      for (const Point& p : points) {
+        const double q1 = c * p.x + sn * p.y, q2 = -sn * p.x + c * p.y;
+        lo1 = std::min(lo1, q1);
+        hi1 = std::max(hi1, q1);
+        lo2 = std::min(lo2, q2);
+        hi2 = std::max(hi2, q2);
+      }
+      const double area = (hi1 - lo1) * (hi2 - lo2);
+      if (area < best_area) {
+        best_area = area;
+        const double m1 = 0.5 * (lo1 + hi1), m2 = 0.5 * (lo2 + hi2);
+        best = {{c * m1 - sn * m2, sn * m1 + c * m2}, a, hi1 - lo1, hi2 - lo2};
+      }
+    }
+    return best;
+  }
+
+  // Where the tower stands, from its top in the image (seed 001, 7.2.4:
+  // "an orientation using the camera"): the blobs of bright pixels, each
+  // back-projected onto the plane of the tower's top (`placed_` cubes up);
+  // the tower's top is the one whose smallest rectangle there is about a
+  // cube's top, nearest to where the tower is thought to stand (the map's
+  // site, or where it was seen last) and within 20 cm of it. A lower cube's
+  // top back-projects onto that plane smaller and nearer (and one as high,
+  // for the second cube, farther from the map's site); the held cube, low,
+  // is out of the image. Nothing if no blob fits.
+  std::optional<Point> LocateTower() const {
+    const double z = placed_ * kCubeSide;
+    std::optional<Point> best;
+    double best_off = 0.2;
+    ForEachBlob([&](const std::vector<std::pair<int, int>>& blob, int w, int h, auto) {
+      if (blob.size() < 3) return;
+      std::vector<Point> points;
+      for (const auto& [u, v] : blob) {
+        if (u == 0 || u == w - 1 || v + 1 >= h) return;  // cut by the image's edge
+        for (const double du : {0.0, 1.0}) {
+          for (const double dv : {0.0, 1.0}) {
+            const auto p = BackProject(u + du, v + dv, z, w, h);
+            if (!p) return;
+            points.push_back(*p);
+          }
+        }
+      }
+      const Rectangle r = Fit(points);
+      if (std::max(r.a, r.b) > 0.1 || std::min(r.a, r.b) < 0.04) return;
+      const double off = Distance(r.mid, tower_);
+      if (off < best_off) {
+        best_off = off;
+        best = r.mid;
+      }
+    });
+    return best;
   }
 
   // The resource map: where cubes were seen, one entry per cube.
@@ -931,7 +1153,7 @@ class Construction : public colony::Controller {
 
   // Where the current cube goes: bridge cubes side by side along the ditch.
   Point Place() const {
-    if (building_tower_) return site_;
+    if (building_tower_) return tower_;
     const double along =
         placed_ == 0 ? -0.5 * (kCubeSide + 0.012) : first_along_ + kCubeSide + 0.012;
     return {site_.x - along * across_.y, site_.y + along * across_.x};
@@ -1011,7 +1233,7 @@ class Construction : public colony::Controller {
   // from the place against the approach direction.
   Point Staging() const {
     const Point line = RobotLine();
-    const double back = building_tower_ ? 0.35 : 0.30;
+    const double back = building_tower_ ? staging_back_ : 0.30;
     return {line.x - back * across_.x, line.y - back * across_.y};
   }
 
@@ -1021,6 +1243,21 @@ class Construction : public colony::Controller {
   }
   double Bearing(const Point& p) const {
     return std::remainder(std::atan2(p.y - y_, p.x - x_) - yaw_, 2 * M_PI);
+  }
+  // The front proximity sensors' reading (the pair either side of the
+  // front, 7.5 degrees off it, kRingRadius from the axis) with a face
+  // `ahead` of the robot's axis, square to it.
+  static double RingReadingAt(double ahead) {
+    return 0.01 / std::max(0.002, (ahead - kRingRadius) / std::cos(7.5 * M_PI / 180));
+  }
+  // How far ahead of the manipulator's IR face a face square to it is, from
+  // the two middle IR sensors (both must see it; rays 7.5 degrees off the
+  // face's normal), or 0 when either sees nothing.
+  double IrFace() const {
+    const auto& ir = arm_->readings();
+    const double right = ir[2].value, left = ir[3].value;
+    if (right < 0.05 || left < 0.05) return 0;
+    return 0.5 * (0.01 / right + 0.01 / left) * std::cos(7.5 * M_PI / 180);
   }
   double FrontProximity() const {
     const auto& r = proximity_->readings();
@@ -1063,7 +1300,7 @@ class Construction : public colony::Controller {
 
   std::string task_;
   Rect region_, tower_region_;
-  Point site_, tower_site_, goal_, across_{1, 0}, edge_, lineup_, start_;
+  Point site_, tower_site_, tower_, goal_, across_{1, 0}, edge_, lineup_, start_;
   Sighting target_;
   std::vector<Point> seen_;
   double ditch_width_ = 0.07, speed_ = 0.1, held_ahead_ = kHeldAhead, held_left_ = 0;
@@ -1071,6 +1308,13 @@ class Construction : public colony::Controller {
   bool building_tower_ = false, turning_ = false, scanned_ = false, reached_ = false;
   int failed_grasps_ = 0, lost_approaches_ = 0, repairs_ = 0, repair_count_ = 0, unrepaired_ = 0;
   bool repairing_ = false;
+  int tower_built_ = 0, tower_looks_ = 0, tower_unseen_ = 0;
+  double staging_back_ = kFarLook;
+  Point looked_;
+  std::optional<double> below_face_;
+  std::array<bool, 6> below_sees_{};
+  int tower_misplaced_ = 0;
+  int looks_seen_ = 0;
   int placed_ = 0, stage_ = 1, lineups_ = 0, vantage_index_ = 0, ticks_ = 0;
   double turned_ = 0, last_yaw_ = 0, first_along_ = -0.5 * (kCubeSide + 0.012);
   Point vantage_;
@@ -1096,6 +1340,8 @@ COLONY_REGISTER_CONTROLLER(
      {"site", "\"x,y\" (m)", "",
       "where to build: the bridge's middle on the ditch's centre line, or the tower's place"},
      {"tower_site", "\"x,y\" (m)", "required when task is remote", "where the tower stands"},
+     {"tower_built", "0, 1 or 2", "0",
+      "how many cubes the tower already has (standing about the site; the robot finds them)"},
      {"heading", "a number in [-360, 360] (degrees)", "0", "direction across the ditch"},
      {"goal", "\"x,y\" (m)", "required when task is bridge or remote",
       "where to drive once across the bridge"},
