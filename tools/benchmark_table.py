@@ -4,7 +4,7 @@ table of its medians into docs/benchmarks.md, between the markers
 <!-- NAME results: begin --> and <!-- NAME results: end -->.
 
     tools/benchmark_table.py NAME SCENE.xml [SCENE.xml ...] [--threads 1,2] [--repeat 3] [--build build]
-                             [--set PATH=VALUE ...]
+                             [--ticks T] [--set PATH=VALUE ...]
 
 e.g. tools/benchmark_table.py mixed_11000 experiments/benchmarks/mixed_11000.xml experiments/benchmarks/diffusion_10000.xml
 Each row is one scene at one thread count: colony_bench's RESULT line (medians
@@ -12,7 +12,9 @@ of the repetitions), with the load average when it ran."""
 import argparse
 import datetime
 import os
+import shlex
 import subprocess
+import sys
 
 import docblock
 
@@ -20,9 +22,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DOC = os.path.join(ROOT, "docs", "benchmarks.md")
 
 
-def bench(build, scene, threads, repeat, sets=()):
+def bench(build, scene, threads, repeat, sets=(), ticks=None):
     exe = os.path.join(ROOT, build, "bin", "colony_bench")
-    extra = [arg for s in sets for arg in ("--set", s)]
+    extra = [arg for s in sets for arg in ("--set", s)] + (["--ticks", str(ticks)] if ticks else [])
     out = subprocess.run([exe, scene, "--threads", str(threads), "--repeat", str(repeat)] + extra, cwd=ROOT,
                          check=True, capture_output=True, text=True).stdout
     line = [l for l in out.splitlines() if l.startswith("RESULT ")][-1]
@@ -36,6 +38,7 @@ def main():
     p.add_argument("--threads", default="1,2")
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--build", default="build")
+    p.add_argument("--ticks", type=int, help="ticks per run (default: the scene's length)")
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                    help="an override passed to colony_bench for every scene (repeatable)")
     a = p.parse_args()
@@ -46,15 +49,15 @@ def main():
     for scene in a.scenes:
         for t in [int(x) for x in a.threads.split(",")]:
             loads.append(os.getloadavg()[0])
-            r = bench(a.build, scene, t, a.repeat, a.set)
+            r = bench(a.build, scene, t, a.repeat, a.set, a.ticks)
             lines.append("| %s | %d | %s | %s | %s | %s s | %s%% | `%s` |" % (
                 r["scene"], t, format(int(float(r["steps_per_s_median"])), ","), r["cpu_ns_per_robot_step"],
                 format(int(r["bytes_per_robot"]), ","), r["load_s_median"], r["physics_pct"], r["state_hash"]))
     lines += ["",
-              "Medians of %d repetitions, measured %s with a load average of %.1f to %.1f before the runs; "
-              "written by `tools/benchmark_table.py %s %s`." % (
-                  a.repeat, datetime.date.today().isoformat(), min(loads), max(loads), a.name,
-                  " ".join(a.scenes + ["--set " + x for x in a.set])), ""]
+              "Medians of %d repetitions%s, measured %s with a load average of %.1f to %.1f before the runs; "
+              "written by `tools/benchmark_table.py %s`." % (
+                  a.repeat, ", %d ticks each" % a.ticks if a.ticks else "", datetime.date.today().isoformat(),
+                  min(loads), max(loads), shlex.join(sys.argv[1:])), ""]
     docblock.replace_block(DOC, "%s results" % a.name, lines)
     print("docs/benchmarks.md: %s written" % a.name)
 
