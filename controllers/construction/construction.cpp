@@ -657,16 +657,9 @@ class Construction : public colony::Controller {
         // nearer or farther, 2 cm or more aside (two sensors more or fewer
         // see it), or not there.
         Stop();
-        manipulator_->SetIrSide();
         const bool below = !below_face_;
         const double level = (placed_ - (below ? 1 : 0)) * kCubeSide + 0.5 * kCubeSide;
-        manipulator_->SetElevation(level);
-        if (std::abs(std::remainder(arm_->rotation() - M_PI, 2 * M_PI)) > 0.03 ||
-            std::abs(arm_->elevation() - level) > 0.003) {
-          ticks_in_phase_ = 0;
-          break;
-        }
-        if (ticks_in_phase_ < 3) break;
+        if (!IrSideSettledAt(level, 0.003)) break;
         const double face = IrFace();
         const auto& ir = arm_->readings();
         if (below) {
@@ -704,14 +697,7 @@ class Construction : public colony::Controller {
         // 3 cm, see nothing ahead; a cube jammed across the ditch's edge, or
         // on its side, sticks up through their rays.
         Stop();
-        manipulator_->SetIrSide();
-        manipulator_->SetElevation(kCheckElevation);
-        if (std::abs(std::remainder(arm_->rotation() - M_PI, 2 * M_PI)) > 0.03 ||
-            std::abs(arm_->elevation() - kCheckElevation) > 0.005) {
-          ticks_in_phase_ = 0;
-          break;
-        }
-        if (ticks_in_phase_ < 3) break;
+        if (!IrSideSettledAt(kCheckElevation, 0.005)) break;
         const auto& ir = arm_->readings();
         double seen = 0;
         for (const auto& r : ir) seen = std::max(seen, static_cast<double>(r.value));
@@ -1067,6 +1053,20 @@ class Construction : public colony::Controller {
       }
     });
     return best;
+  }
+
+  // Turns the manipulator's IR side forwards at `level` (within
+  // `tolerance`): true once it is there and its readings have had three
+  // ticks to settle; the phase's tick count restarts while it moves.
+  bool IrSideSettledAt(double level, double tolerance) {
+    manipulator_->SetIrSide();
+    manipulator_->SetElevation(level);
+    if (std::abs(std::remainder(arm_->rotation() - M_PI, 2 * M_PI)) > 0.03 ||
+        std::abs(arm_->elevation() - level) > tolerance) {
+      ticks_in_phase_ = 0;
+      return false;
+    }
+    return ticks_in_phase_ >= 3;
   }
 
   // The resource map: where cubes were seen, one entry per cube.
