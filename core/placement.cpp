@@ -107,6 +107,10 @@ const PlacementIndex::Item* PlacementIndex::FindOverlap(const Pose& pose, const 
                                                         bool movable_only) const {
   auto overlap = [&](uint32_t k) {
     const uint32_t s = items_[k].slot;
+    if (s & kPending) {
+      return (!movable_only || pending_movable_) &&
+             FootprintsOverlap(pose, g, pending_[s & ~kPending], *pending_geometry_);
+    }
     return (!movable_only || space_.movable(s)) &&
            FootprintsOverlap(pose, g, space_.pose(s), space_.geometry(s));
   };
@@ -134,7 +138,28 @@ const PlacementIndex::Item* PlacementIndex::FindOverlap(const Pose& pose, const 
 void PlacementIndex::Insert(uint32_t slot, int line) {
   const uint32_t k = static_cast<uint32_t>(items_.size());
   items_.push_back({slot, line});
-  const CellSpan span = SpanOf(space_.pose(slot), space_.geometry(slot));
+  File(k, space_.pose(slot), space_.geometry(slot));
+}
+
+void PlacementIndex::BeginPending(const Geometry& g, bool movable, size_t expected) {
+  pending_.clear();
+  pending_.reserve(expected);
+  pending_geometry_ = &g;
+  pending_movable_ = movable;
+  pending_base_ = static_cast<uint32_t>(items_.size());
+}
+
+uint32_t PlacementIndex::InsertPending(const Pose& pose, int line) {
+  const uint32_t k = static_cast<uint32_t>(items_.size());
+  const uint32_t n = static_cast<uint32_t>(pending_.size());
+  items_.push_back({kPending | n, line});
+  pending_.push_back(pose);
+  File(k, pose, *pending_geometry_);
+  return n;
+}
+
+void PlacementIndex::File(uint32_t k, const Pose& pose, const Geometry& g) {
+  const CellSpan span = SpanOf(pose, g);
   if (span.cells() > kMaxCellsPerItem) {
     large_.push_back(k);
     return;
@@ -178,7 +203,10 @@ std::string PlacementProblem(const Space::EntityInit& init, const Space& space,
   // anything movable must start clear of everything, whichever comes first.
   const bool movable = init.flags & kMovable;
   if (const auto* other = index.FindOverlap(init.pose, init.geometry, !movable)) {
-    return "overlaps '" + space.id(other->slot) + "' (line " + std::to_string(other->line) + ")";
+    const std::string line = "(line " + std::to_string(other->line) + ")";
+    if (PlacementIndex::IsPending(*other))
+      return "overlaps an entity of the same <distribute> block drawn before it " + line;
+    return "overlaps '" + space.id(other->slot) + "' " + line;
   }
   return "";
 }
@@ -219,33 +247,99 @@ Vec3 Draw(const DistributeDraw& draw, RandomStream& rng, size_t index) {
   return Vec3(unit(a[0]), unit(a[1]), unit(a[2]));
 }
 
+namespace {
+
+// x spread over the even bits of a 64-bit word.
+uint64_t SpreadBits(uint64_t x) {
+  x &= 0xffffffffu;
+  x = (x | x << 16) & 0x0000ffff0000ffffu;
+  x = (x | x << 8) & 0x00ff00ff00ff00ffu;
+  x = (x | x << 4) & 0x0f0f0f0f0f0f0f0fu;
+  x = (x | x << 2) & 0x3333333333333333u;
+  x = (x | x << 1) & 0x5555555555555555u;
+  return x;
+}
+
+}  // namespace
+
+uint64_t ZOrderKey(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  constexpr double kSteps = 2147483648.0;  // 2^31 along each side
+  auto step = [&](int c) {
+    const double extent = hi[c] - lo[c];
+    const double t = extent > 0 ? (p[c] - lo[c]) / extent : 0;
+    // Places are inside the arena; the bounds only keep a key in range.
+    return static_cast<uint64_t>(std::clamp(t * kSteps, 0.0, kSteps - 1));
+  };
+  return SpreadBits(step(0)) | SpreadBits(step(1)) << 1;
+}
+
 void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::string& file,
-                      const std::function<std::string(const EntityDesc&)>& problem,
-                      const std::function<bool(const EntityDesc&)>& add, Diagnostics& diagnostics) {
+                      const Space& space, PlacementIndex& index,
+                      const std::function<EntityHandle(const EntityDesc&)>& add,
+                      Diagnostics& diagnostics) {
   RandomStream rng = RandomStream::For(seed, "distribute", std::to_string(block.line));
   const std::string& base_id = block.entity.init.id;
   EntityDesc desc = block.entity;
-  for (int64_t i = 0; i < block.quantity; ++i) {
+  const bool solid = desc.init.flags & kSolid;
+  const bool movable = desc.init.flags & kMovable;
+  auto add_numbered = [&](int64_t i) {
     desc.init.id = base_id + std::to_string(block.base_num + i);
+    return add(desc);
+  };
+  // Numbered by place: the poses drawn, in the order drawn, kept by the
+  // index (solid entities, which later draws must stay clear of) or here.
+  std::vector<Pose> drawn;
+  if (block.order_by_place && solid)
+    index.BeginPending(block.entity.init.geometry, movable, static_cast<size_t>(block.quantity));
+  else if (block.order_by_place)
+    drawn.reserve(static_cast<size_t>(block.quantity));
+  for (int64_t i = 0; i < block.quantity; ++i) {
     bool placed = false;
     std::string last_problem;
     for (int64_t trial = 0; trial < block.max_trials && !placed; ++trial) {
       desc.init.pose.position = Draw(block.position, rng, static_cast<size_t>(i));
       const Vec3 o = Draw(block.orientation, rng, static_cast<size_t>(i));
       desc.init.pose.orientation = FromEulerZYX(o[0], o[1], o[2]);
-      last_problem = problem(desc);
+      last_problem = PlacementProblem(desc.init, space, index);
       placed = last_problem.empty();
     }
     if (!placed) {
+      const std::string which = block.order_by_place
+                                    ? "the next"
+                                    : "'" + base_id + std::to_string(block.base_num + i) + "'";
       diagnostics.Add(Diagnostic{
           file, block.entity_line, "entity", "max_trials", std::to_string(block.max_trials),
           "could place only " + std::to_string(i) + " of " + std::to_string(block.quantity) +
-              " entities: '" + desc.init.id + "' found no free place in " +
+              " entities: " + which + " found no free place in " +
               std::to_string(block.max_trials) + " trials (last try: it " + last_problem +
               "); enlarge the <position> range or the arena, lower quantity, or raise max_trials"});
       return;
     }
-    if (!add(desc)) return;
+    if (block.order_by_place) {
+      if (solid) {
+        index.InsertPending(desc.init.pose, desc.line);
+      } else {
+        drawn.push_back(desc.init.pose);
+      }
+      continue;
+    }
+    const EntityHandle h = add_numbered(i);
+    if (!h.valid()) return;
+    if (solid) index.Insert(h.index, desc.line);
+  }
+  if (!block.order_by_place) return;
+  auto pose = [&](uint32_t k) -> const Pose& { return solid ? index.PendingPose(k) : drawn[k]; };
+  // Ties (the same place) keep the order drawn.
+  std::vector<std::pair<uint64_t, uint32_t>> order(static_cast<size_t>(block.quantity));
+  for (uint32_t k = 0; k < order.size(); ++k)
+    order[k] = {ZOrderKey(pose(k).position, space.arena_min(), space.arena_max()), k};
+  std::sort(order.begin(), order.end());
+  for (size_t i = 0; i < order.size(); ++i) {
+    const uint32_t k = order[i].second;
+    desc.init.pose = pose(k);
+    const EntityHandle h = add_numbered(static_cast<int64_t>(i));
+    if (!h.valid()) return;
+    if (solid) index.Settle(k, h.index);
   }
 }
 

@@ -56,10 +56,26 @@ class PlacementIndex {
   const Item* FindOverlap(const Pose& pose, const Geometry& g, bool movable_only) const;
   // Files the entity in `slot` of the space, as it stands now.
   void Insert(uint32_t slot, int line);
+  // Entities drawn but not yet in the space (a <distribute> block numbered
+  // by place is drawn whole before it is added), all of shape `g` (which
+  // must outlive the index): BeginPending, then InsertPending for each
+  // (returns its number, from 0; its pose is kept here), then Settle to name
+  // each one's slot once it is added. A block that fails to load may leave
+  // some pending.
+  void BeginPending(const Geometry& g, bool movable, size_t expected);
+  uint32_t InsertPending(const Pose& pose, int line);
+  const Pose& PendingPose(uint32_t pending) const { return pending_[pending]; }
+  void Settle(uint32_t pending, uint32_t slot) { items_[pending_base_ + pending].slot = slot; }
+  // Whether `item` is still pending (it has no slot, so no id yet).
+  static bool IsPending(const Item& item) { return item.slot & kPending; }
 
  private:
   static constexpr double kMaxCellsPerItem = 4096;
   static constexpr uint32_t kNone = UINT32_MAX;
+  static constexpr uint32_t kPending = 1u
+                                       << 31;  // in Item::slot: the rest numbers a pending entity
+  // Files item `k` in the cells its footprint touches.
+  void File(uint32_t k, const Pose& pose, const Geometry& g);
   // The cells [x0, x1] x [y0, y1] a footprint's bounding box touches.
   struct CellSpan {
     int64_t x0, y0, x1, y1;
@@ -82,6 +98,11 @@ class PlacementIndex {
   std::vector<uint32_t> head_, tail_;  // per cell: first and last entry, or kNone
   std::vector<Entry> entries_;
   std::vector<uint32_t> large_;  // items spanning over kMaxCellsPerItem cells
+  // The pending block: its poses, shape, whether movable, its first item.
+  std::vector<Pose> pending_;
+  const Geometry* pending_geometry_ = nullptr;
+  bool pending_movable_ = false;
+  uint32_t pending_base_ = 0;
 };
 
 // Why `init` cannot stand where it is among the footprints of `index` and in
@@ -94,14 +115,25 @@ std::string PlacementProblem(const Space::EntityInit& init, const Space& space,
 // a random draw from `rng`), in metres or radians.
 Vec3 Draw(const DistributeDraw& draw, RandomStream& rng, size_t index);
 
-// Places the entities of `block`, in order: entity i gets the template's id
-// followed by base_num + i, and the first pose drawn (position, then
-// orientation, from one stream seeded by `seed` and the block's line) for
-// which `problem` returns ""; it is then handed to `add`. Stops at the first
-// entity that `add` refuses (returns false: it recorded why) or that finds no
-// place in max_trials draws, recorded in `diagnostics` against `file`.
+// Places the entities of `block`. Each is given the first pose drawn
+// (position, then orientation, from one stream seeded by `seed` and the
+// block's line) that PlacementProblem finds clear in `space` and `index`,
+// then handed to `add`, which adds it to `space` (and not to `index`: solid
+// ones are filed here). Entity i gets the template's id followed by
+// base_num + i: with order="drawn" it is the i-th drawn and added, each as
+// soon as it is drawn; with order="place" the whole block is drawn first,
+// then numbered and added in the order of its places along a Z-order curve
+// over the arena (ZOrderKey). Stops at the first entity that finds no place
+// in max_trials draws, recorded in `diagnostics` against `file`, or that
+// `add` refuses (returns an invalid handle: it recorded why).
 void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::string& file,
-                      const std::function<std::string(const EntityDesc&)>& problem,
-                      const std::function<bool(const EntityDesc&)>& add, Diagnostics& diagnostics);
+                      const Space& space, PlacementIndex& index,
+                      const std::function<EntityHandle(const EntityDesc&)>& add,
+                      Diagnostics& diagnostics);
+
+// The place of `p` along a Z-order (Morton) curve over the box [lo, hi] of
+// the floor: x and y in 2^31 steps each, their bits interleaved. Points near
+// each other mostly have keys near each other.
+uint64_t ZOrderKey(const Vec3& p, const Vec3& lo, const Vec3& hi);
 
 }  // namespace colony

@@ -1,5 +1,6 @@
 // Building a simulation from an ExperimentSpec (core/experiment_spec.h), and
 // adding entities to it while it runs.
+#include <malloc.h>
 #include <tinyxml2.h>
 
 #include <algorithm>
@@ -74,6 +75,10 @@ void Simulation::Build(const ExperimentSpec& spec) {
   if (!pool_ || pool_->threads() != threads_) pool_ = std::make_unique<ThreadPool>(threads_);
   rng_ = RandomStream::For(seed_, "loop_functions", "");
   BuildArena(spec.arena);
+  // The placement's scratch (its index, the poses of blocks numbered by
+  // place) is freed among the robots' memory: its pages go back to the
+  // system rather than stay resident until reused.
+  malloc_trim(0);
   diagnostics.ThrowIfAny();
   for (const auto& [type, id] : entity_types_) {
     if (type) type->Placed(space_);
@@ -473,14 +478,10 @@ void Simulation::BuildArena(const ArenaSpec& arena) {
   }
   PlacementIndex placed(0.5, space_, expected);
   for (const EntityDesc& wall : arena.walls) Add(wall, PlacementCheck::kClear, &placed);
-  auto problem = [&](const EntityDesc& desc) {
-    return PlacementProblem(desc.init, space_, placed);
-  };
-  // A <distribute> block adds what `problem` found room for: checking again
-  // would cast the same footprint against the same neighbours.
-  auto add = [&](const EntityDesc& desc) {
-    return Add(desc, PlacementCheck::kNone, &placed).valid();
-  };
+  // A <distribute> block adds what it found room for (and files it in
+  // `placed` itself): checking again would cast the same footprint against
+  // the same neighbours.
+  auto add = [&](const EntityDesc& desc) { return Add(desc, PlacementCheck::kNone, nullptr); };
   for (const auto& item : arena.contents) {
     if (const auto* desc = std::get_if<EntityDesc>(&item)) {
       Add(*desc, PlacementCheck::kClear, &placed);
@@ -494,7 +495,7 @@ void Simulation::BuildArena(const ArenaSpec& arena) {
       engine_of_.reserve(slots);
       robot_of_.reserve(slots);
       line_of_.reserve(slots);
-      PlaceDistributed(block, seed_, file_, problem, add, context_->diagnostics);
+      PlaceDistributed(block, seed_, file_, space_, placed, add, context_->diagnostics);
     }
   }
 }

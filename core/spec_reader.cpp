@@ -789,10 +789,11 @@ void SpecReader::ReadDistribute(const ConfigNode& node) {
   block.entity_line = ent_node.line();
   ReadDraw(pos_node, false, block.position);
   ReadDraw(ori_node, true, block.orientation);
-  ent_node.CheckAttributes({"quantity", "max_trials", "base_num"});
+  ent_node.CheckAttributes({"quantity", "max_trials", "base_num", "order"});
   block.quantity = ent_node.RequireInt("quantity", 1, kMaxDistributeQuantity);
   block.max_trials = ent_node.GetInt("max_trials", 100, 1, 1'000'000);
   block.base_num = ent_node.GetInt("base_num", 0, 0, INT64_MAX);
+  block.order_by_place = ent_node.GetChoice("order", {"drawn", "place"}, "drawn") == "place";
   const auto templates = ent_node.Children();
   if (templates.size() != 1)
     ent_node.ElementError(

@@ -339,6 +339,34 @@ TEST(config_errors, DistributeCannotPlaceEveryRobot) {
   EXPECT_LT(placed, 500);
 }
 
+TEST(config_errors, DistributeNumberedByPlaceCannotPlaceEveryRobot) {
+  // Drawn whole before any is added: the message names the draw that failed,
+  // not an id (ids follow the places), and what it overlapped.
+  const std::string arena =
+      "\n<distribute>\n<position method=\"uniform\" min=\"-0.5,-0.5,0\" max=\"0.5,0.5,0\"/>\n"
+      "<orientation method=\"constant\" values=\"0,0,0\"/>\n<entity quantity=\"500\" "
+      "max_trials=\"20\" order=\"place\">\n"
+      "<marxbot id=\"mb\"><controller config=\"probe\"/></marxbot>\n</entity>\n</distribute>";
+  const auto diagnostics = Diagnose(Experiment(arena, kProbe));
+  ASSERT_EQ(diagnostics.size(), 1u);
+  EXPECT_TRUE(Mentions(diagnostics[0].ToString(), {"<string>:5:", "could place only ",
+                                                   " of 500 entities: the next found no "
+                                                   "free place in 20 trials",
+                                                   "overlaps an entity of the same <distribute> "
+                                                   "block drawn before it (line 6)"}));
+}
+
+TEST(config_errors, DistributeOrderMustBeDrawnOrPlace) {
+  const std::string arena =
+      "\n<distribute>\n<position method=\"uniform\" min=\"-0.5,-0.5,0\" max=\"0.5,0.5,0\"/>\n"
+      "<orientation method=\"constant\" values=\"0,0,0\"/>\n<entity quantity=\"2\" "
+      "order=\"spatial\">\n"
+      "<marxbot id=\"mb\"><controller config=\"probe\"/></marxbot>\n</entity>\n</distribute>";
+  EXPECT_TRUE(Mentions(
+      LoadError(Experiment(arena, kProbe)),
+      {"<string>:5:", "<entity>", "attribute 'order'", "'spatial'", "accepted: drawn, place"}));
+}
+
 TEST(config_errors, DistributeGridTooLargeIsRefusedNotAllocated) {
   const std::string arena =
       "\n<distribute>\n<position method=\"grid\" center=\"0,0,0\" distances=\"0.3,0.3,0\" "

@@ -51,5 +51,12 @@ TEST(Determinism, DenseCollidingSceneSameHashWhateverTheThreadCount) {
   EXPECT_NE(FinalHash(options, 2), a);
 }
 
+TEST(Determinism, SwarmNumberedByPlaceSameHashWhateverTheThreadCount) {
+  ExperimentOptions options;
+  options.file = COLONY_SOURCE_DIR "/experiments/benchmarks/diffusion_1000.xml";
+  options.overrides = {"framework.experiment.length=5"};
+  ExpectSameHashForAllThreadCounts(options);
+}
+
 }  // namespace
 }  // namespace colony

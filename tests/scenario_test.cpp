@@ -1,6 +1,8 @@
 // Scenarios a user would notice: a marXbot running the diffusion controller
 // turns away from a wall before touching it; in a dense swarm no robot ever
 // overlaps a wall or another robot.
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/geometry2d.h"
@@ -100,6 +102,55 @@ TEST(Scenario, DenseSwarmNeverOverlaps) {
   // The scene really was dense and moving.
   EXPECT_GT(contacts, 500u);
   EXPECT_GT(moved / robots.size(), 0.5);
+}
+
+// order="place" changes which robot stands where, not where robots stand:
+// the same places as drawn, numbered along the floor, so that a robot's
+// neighbours in memory are its neighbours on the floor.
+TEST(Scenario, DistributeNumberedByPlaceKeepsThePlacesAndNumbersThemAlongTheFloor) {
+  auto load = [](const std::string& order) {
+    return LoadXml(Experiment(
+        "<walls thickness=\"0.1\" height=\"0.5\"/>"
+        "<distribute><position method=\"uniform\" min=\"-1.8,-1.8,0\" max=\"1.8,1.8,0\"/>"
+        "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
+        "<entity quantity=\"200\" max_trials=\"1000\" order=\"" +
+            order +
+            "\"><marxbot id=\"mb\"><controller config=\"dc\"/></marxbot></entity></distribute>",
+        DiffusionController("0.05")));
+  };
+  auto drawn = load("drawn"), by_place = load("place");
+  auto places = [](const Simulation& sim) {
+    std::vector<std::array<double, 4>> out;  // x, y, yaw, id number
+    for (int i = 0; i < 200; ++i) {
+      const EntityHandle h = sim.space().Find("mb" + std::to_string(i));
+      EXPECT_TRUE(h.valid()) << "mb" << i;
+      if (!h.valid()) continue;
+      const Pose& p = sim.space().pose(h.index);
+      out.push_back({p.position.x(), p.position.y(), YawOf(p.orientation), double(i)});
+    }
+    return out;
+  };
+  auto a = places(*drawn), b = places(*by_place);
+  ASSERT_EQ(a.size(), 200u);
+  ASSERT_EQ(b.size(), 200u);
+  // Mean distance from robot i to robot i + 1.
+  auto step = [](const std::vector<std::array<double, 4>>& v) {
+    double sum = 0;
+    for (size_t i = 1; i < v.size(); ++i)
+      sum += std::hypot(v[i][0] - v[i - 1][0], v[i][1] - v[i - 1][1]);
+    return sum / static_cast<double>(v.size() - 1);
+  };
+  // Drawn at random, consecutive robots are about half the arena apart; by
+  // place, a few robot widths.
+  EXPECT_GT(step(a), 1.2);
+  EXPECT_LT(step(b), 0.5);
+  // The same poses, whoever stands on them.
+  auto by_place_of = [](std::vector<std::array<double, 4>> v) {
+    for (auto& e : v) e[3] = 0;
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  EXPECT_EQ(by_place_of(a), by_place_of(b));
 }
 
 }  // namespace

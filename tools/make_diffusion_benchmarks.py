@@ -11,7 +11,10 @@ diffusion controller in a square walled arena with 0.5 m^2 of free floor per
 robot. The free floor is a square of side sqrt(0.5 N) m; walls 0.1 m thick
 line the inside of the arena, so the arena is that side + 0.2 m. Robots are
 placed uniformly at random over the free floor, their centres kept 0.1 m from
-the walls' inner faces (a marXbot's radius is 0.085 m), with a random heading.
+the walls' inner faces (a marXbot's radius is 0.085 m), with a random heading,
+and numbered in the order of their places (order="place": robots near each
+other on the floor are near each other in memory, which matters once a swarm
+outgrows the processor's caches; docs/benchmarks.md).
 The flocking scenes use the same arena, density and placement with the
 flocking controller of experiments/flocking.xml instead (range-and-bearing
 range 1 m, 2-byte payload, positioning and proximity sensors).
@@ -39,7 +42,8 @@ TEMPLATE = """<?xml version="1.0"?>
      edit the script, not this file). Experiment E0 at constant density:
      {n} marXbots running the diffusion controller in a square walled arena
      with {floor_per_robot} m^2 of free floor per robot ({side:.4f} m x {side:.4f} m inside
-     the walls), placed uniformly at random, random headings. Proximity sensor
+     the walls), placed uniformly at random, random headings, numbered (and
+     so stored) in the order of their places (order="place"). Proximity sensor
      and differential steering only; no loop functions, no objects but walls.
      Physics: {physics}.
      Benchmark it with:  colony_bench experiments/benchmarks/{name}.xml -->
@@ -66,7 +70,7 @@ TEMPLATE = """<?xml version="1.0"?>
     <distribute>
       <position method="uniform" min="{lo:.4f},{lo:.4f},0" max="{hi:.4f},{hi:.4f},0"/>
       <orientation method="uniform" min="0,0,0" max="360,0,0"/>
-      <entity quantity="{n}" max_trials="1000">
+      <entity quantity="{n}" max_trials="1000" order="place">
         <marxbot id="mb"><controller config="dc"/></marxbot>
       </entity>
     </distribute>
@@ -118,7 +122,8 @@ FLOCKING_TEMPLATE = """<?xml version="1.0"?>
      the flocking controller of experiments/flocking.xml: {n} marXbots in a
      square walled arena with {floor_per_robot} m^2 of free floor per robot
      ({side:.4f} m x {side:.4f} m inside the walls), placed uniformly at random,
-     random headings. Each broadcasts its heading (2 bytes) over
+     random headings, numbered in the order of their places (order="place").
+     Each broadcasts its heading (2 bytes) over
      range-and-bearing (range 1 m) and reads proximity and positioning.
      Range-and-bearing occlusion checks: {occlusions}. No loop functions.
      Physics: kinematics2d.
@@ -150,7 +155,7 @@ FLOCKING_TEMPLATE = """<?xml version="1.0"?>
     <distribute>
       <position method="uniform" min="{lo:.4f},{lo:.4f},0" max="{hi:.4f},{hi:.4f},0"/>
       <orientation method="uniform" min="0,0,0" max="360,0,0"/>
-      <entity quantity="{n}" max_trials="1000">
+      <entity quantity="{n}" max_trials="1000" order="place">
         <marxbot id="fb"><controller config="fc"/></marxbot>
       </entity>
     </distribute>
