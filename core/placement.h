@@ -31,7 +31,8 @@ std::string OutsideArenaProblem(const Space::EntityInit& init, const Space& spac
 // Placed solid footprints, to reject entities inside walls or on top of each
 // other while an experiment is built. The index keeps only the space slot
 // and file line of each placed entity (its pose and shape are read from the
-// space), filed in the cells of a uniform grid over the arena that its
+// space; those of a block numbered by place are kept here until it is
+// added), filed in the cells of a uniform grid over the arena that its
 // footprint touches; each cell is a list in the order the entities were
 // placed (head and tail per cell, one link per entry), so a load allocates a
 // few flat arrays instead of a node per cell. Large footprints (walls of a
