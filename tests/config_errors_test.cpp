@@ -320,13 +320,19 @@ TEST(config_errors, EntityOutsideTheArena) {
                         "x [4.5, 5.5]", "the arena spans x [-2, 2]"}));
 }
 
+// Marxbots distributed over 1 m x 1 m; `entity` is the attributes of the
+// block's <entity> (line 5 of the file; the marxbot is on line 6).
+std::string DistributeOverOneSquareMetre(const std::string& entity) {
+  return "\n<distribute>\n<position method=\"uniform\" min=\"-0.5,-0.5,0\" max=\"0.5,0.5,0\"/>\n"
+         "<orientation method=\"constant\" values=\"0,0,0\"/>\n<entity " +
+         entity +
+         ">\n<marxbot id=\"mb\"><controller config=\"probe\"/></marxbot>\n</entity>\n"
+         "</distribute>";
+}
+
 TEST(config_errors, DistributeCannotPlaceEveryRobot) {
-  const std::string arena =
-      "\n<distribute>\n<position method=\"uniform\" min=\"-0.5,-0.5,0\" max=\"0.5,0.5,0\"/>\n"
-      "<orientation method=\"constant\" values=\"0,0,0\"/>\n<entity quantity=\"500\" "
-      "max_trials=\"20\">\n"
-      "<marxbot id=\"mb\"><controller config=\"probe\"/></marxbot>\n</entity>\n</distribute>";
-  const auto diagnostics = Diagnose(Experiment(arena, kProbe));
+  const auto diagnostics = Diagnose(
+      Experiment(DistributeOverOneSquareMetre("quantity=\"500\" max_trials=\"20\""), kProbe));
   ASSERT_EQ(diagnostics.size(), 1u);
   const std::string message = diagnostics[0].ToString();
   EXPECT_TRUE(
@@ -342,12 +348,8 @@ TEST(config_errors, DistributeCannotPlaceEveryRobot) {
 TEST(config_errors, DistributeNumberedByPlaceCannotPlaceEveryRobot) {
   // Drawn whole before any is added: the message names the draw that failed,
   // not an id (ids follow the places), and what it overlapped.
-  const std::string arena =
-      "\n<distribute>\n<position method=\"uniform\" min=\"-0.5,-0.5,0\" max=\"0.5,0.5,0\"/>\n"
-      "<orientation method=\"constant\" values=\"0,0,0\"/>\n<entity quantity=\"500\" "
-      "max_trials=\"20\" order=\"place\">\n"
-      "<marxbot id=\"mb\"><controller config=\"probe\"/></marxbot>\n</entity>\n</distribute>";
-  const auto diagnostics = Diagnose(Experiment(arena, kProbe));
+  const auto diagnostics = Diagnose(Experiment(
+      DistributeOverOneSquareMetre("quantity=\"500\" max_trials=\"20\" order=\"place\""), kProbe));
   ASSERT_EQ(diagnostics.size(), 1u);
   EXPECT_TRUE(Mentions(diagnostics[0].ToString(), {"<string>:5:", "could place only ",
                                                    " of 500 entities: the next found no "
@@ -357,13 +359,9 @@ TEST(config_errors, DistributeNumberedByPlaceCannotPlaceEveryRobot) {
 }
 
 TEST(config_errors, DistributeOrderMustBeDrawnOrPlace) {
-  const std::string arena =
-      "\n<distribute>\n<position method=\"uniform\" min=\"-0.5,-0.5,0\" max=\"0.5,0.5,0\"/>\n"
-      "<orientation method=\"constant\" values=\"0,0,0\"/>\n<entity quantity=\"2\" "
-      "order=\"spatial\">\n"
-      "<marxbot id=\"mb\"><controller config=\"probe\"/></marxbot>\n</entity>\n</distribute>";
   EXPECT_TRUE(Mentions(
-      LoadError(Experiment(arena, kProbe)),
+      LoadError(
+          Experiment(DistributeOverOneSquareMetre("quantity=\"2\" order=\"spatial\""), kProbe)),
       {"<string>:5:", "<entity>", "attribute 'order'", "'spatial'", "accepted: drawn, place"}));
 }
 
