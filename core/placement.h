@@ -73,8 +73,8 @@ class PlacementIndex {
  private:
   static constexpr double kMaxCellsPerItem = 4096;
   static constexpr uint32_t kNone = UINT32_MAX;
-  static constexpr uint32_t kPending = 1u
-                                       << 31;  // in Item::slot: the rest numbers a pending entity
+  // In Item::slot: a pending entity, numbered by the other bits.
+  static constexpr uint32_t kPending = 1u << 31;
   // Files item `k` in the cells its footprint touches.
   void File(uint32_t k, const Pose& pose, const Geometry& g);
   // The cells [x0, x1] x [y0, y1] a footprint's bounding box touches.
