@@ -392,5 +392,68 @@ TEST(RunFolder, SummaryCarriesProvenance) {
   fs::remove_all(root);
 }
 
+// HDF5 is a plugin loaded on first use (core/table_formats.h): `colony
+// version` and a run writing CSV never load libhdf5; a run writing its
+// trajectories in HDF5 loads it and names the plugin in its provenance.
+// LD_DEBUG=files makes the dynamic loader name every library it opens.
+TEST(RunFolder, OnlyRunsThatUseHdf5LoadIt) {
+  const fs::path root = TempDir("hdf5_on_demand");
+  fs::create_directories(root);
+  auto colony = [&](const std::string& args) {
+    return testing::RunCommand("cd '" + root.string() + "' && LD_DEBUG=files " COLONY_EXE " " +
+                               args);
+  };
+  auto plugins = [&](const std::string& run) {
+    const auto j = nlohmann::json::parse(ReadFile(root / run / "summary.json"), nullptr, false);
+    std::string paths;
+    for (const auto& library : j["plugin_libraries"]) paths += library.value("path", "") + "\n";
+    return paths;
+  };
+  auto r = colony("version");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("libcolony.so"), std::string::npos) << "no loader output:\n" << r.output;
+  EXPECT_EQ(r.output.find("libhdf5"), std::string::npos) << r.output;
+  const std::string run = "run " COLONY_SOURCE_DIR
+                          "/experiments/diffusion.xml --quiet --set framework.experiment.length=1 "
+                          "--set output.trajectories_every=1";
+  r = colony(run + " --out csv");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(root / "csv" / "trajectories.csv"));
+  EXPECT_EQ(r.output.find("libhdf5"), std::string::npos) << r.output;
+  EXPECT_EQ(plugins("csv").find("libcolony_hdf5.so"), std::string::npos) << plugins("csv");
+  r = colony(run + " --set output.format=hdf5 --out hdf5");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_GT(fs::file_size(root / "hdf5" / "trajectories.h5"), 1000u);
+  EXPECT_NE(r.output.find("libhdf5"), std::string::npos) << r.output;
+  EXPECT_NE(plugins("hdf5").find("/libcolony_hdf5.so\n"), std::string::npos) << plugins("hdf5");
+  fs::remove_all(root);
+}
+
+// Without the plugin (a program copied away from its plugins, the search
+// path pointed at an empty folder), an HDF5 trajectories table stops the run
+// (exit 1) before its first row, with a message naming the plugin and where
+// it was looked for.
+TEST(RunFolder, AMissingHdf5PluginIsNamed) {
+  const std::vector<std::string> search = PluginSearchPath();
+  if (fs::exists(fs::path(search.back()) / "libcolony_hdf5.so"))
+    GTEST_SKIP() << "Colony is installed in " << search.back() << ": its plugin would be found";
+  const fs::path root = TempDir("hdf5_missing");
+  const fs::path exp = RelativeLibraryCopy(root / "experiment");
+  fs::create_directories(root / "bin");
+  fs::create_directories(root / "empty");
+  fs::copy_file(COLONY_EXE, root / "bin" / "colony");
+  const auto r = testing::RunCommand(
+      "cd '" + root.string() + "' && COLONY_PLUGIN_PATH='" + (root / "empty").string() +
+      "' bin/colony run experiment/diffusion.xml --quiet --set framework.experiment.length=1 "
+      "--set output.trajectories_every=1 --set output.format=hdf5 --out run");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_TRUE(testing::Mentions(
+      r.output, {"HDF5 tables need the plugin colony_hdf5", "cannot load library 'colony_hdf5'",
+                 (root / "empty" / "libcolony_hdf5.so").string() + " (no such file)"}))
+      << r.output;
+  EXPECT_FALSE(fs::exists(root / "run" / "trajectories.h5"));
+  fs::remove_all(root);
+}
+
 }  // namespace
 }  // namespace colony

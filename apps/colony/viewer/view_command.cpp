@@ -3,7 +3,6 @@
 // stepped; at each recorded tick the robots' poses from its trajectories
 // table are put into that simulation's space, and the server (viewer.cpp)
 // draws the scene and frames from it as it does for a live run.
-#include <hdf5.h>
 #include <zlib.h>
 
 #include <array>
@@ -25,6 +24,7 @@
 #include "core/log.h"
 #include "core/math.h"
 #include "core/simulation.h"
+#include "core/table_formats.h"
 #include "core/trajectories.h"
 
 namespace colony {
@@ -151,139 +151,51 @@ RecordedTable ReadCsvTable(const std::string& path, bool gzip) {
 
 // --- HDF5 (trajectories.h5) ---------------------------------------------------
 
-// An HDF5 identifier closed when it goes.
-class H5Handle {
- public:
-  H5Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
-  ~H5Handle() {
-    if (id_ >= 0) close_(id_);
-  }
-  H5Handle(const H5Handle&) = delete;
-  H5Handle& operator=(const H5Handle&) = delete;
-  hid_t get() const { return id_; }
-  bool ok() const { return id_ >= 0; }
-
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
-
-// HDF5's own error printing, off while reading (its errors become ours).
-class QuietHdf5 {
- public:
-  QuietHdf5() {
-    H5Eget_auto2(H5E_DEFAULT, &function_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, function_, data_); }
-
- private:
-  H5E_auto2_t function_ = nullptr;
-  void* data_ = nullptr;
-};
-
-// The numeric columns read at once, as a compound of the fields named.
-struct H5Numbers {
-  int64_t tick;
-  double x, y, z, yaw, pitch, roll;
-  double led[3];
-};
-
+// Through the HDF5 plugin (core/table_formats.h), loaded here on first use.
 RecordedTable ReadHdf5Table(const std::string& path) {
-  QuietHdf5 quiet;
-  const H5Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (!file.ok()) Bad(path, "not a readable HDF5 file (damaged or cut short?)");
-  const H5Handle dataset(H5Dopen2(file.get(), "trajectories", H5P_DEFAULT), H5Dclose);
-  if (!dataset.ok()) Bad(path, "no dataset 'trajectories' (docs/data-output.md, HDF5 layout)");
-  const H5Handle type(H5Dget_type(dataset.get()), H5Tclose);
-  const H5Handle space(H5Dget_space(dataset.get()), H5Sclose);
-  if (!type.ok() || !space.ok() || H5Tget_class(type.get()) != H5T_COMPOUND ||
-      H5Sget_simple_extent_ndims(space.get()) != 1) {
-    Bad(path, "dataset 'trajectories' is not a one-dimensional table of a compound type");
+  using enum ColumnType;
+  const std::vector<TableColumn> wanted = {{"tick", kInteger}, {"id", kText},     {"x", kNumber},
+                                           {"y", kNumber},     {"z", kNumber},    {"yaw", kNumber},
+                                           {"pitch", kNumber}, {"roll", kNumber}, {kLedColumns[0]},
+                                           {kLedColumns[1]},   {kLedColumns[2]}};
+  enum { kTick, kId, kX, kY, kZ, kYaw, kPitch, kRoll, kLed };
+  std::vector<Hdf5Column> columns;
+  size_t n = 0;
+  try {
+    n = Hdf5().read_columns(path, "trajectories", wanted, columns);
+  } catch (const RuntimeFailure& e) {
+    Bad(path, e.what());
   }
-  for (const char* name : {"tick", "id", "x", "y", "z", "yaw"}) {
-    if (H5Tget_member_index(type.get(), name) < 0) {
-      Bad(path, std::string("dataset 'trajectories' has no column '") + name + "'");
+  for (int c = kTick; c <= kYaw; ++c) {
+    if (!columns[c].present) {
+      Bad(path, "dataset 'trajectories' has no column '" + wanted[c].name +
+                    "' (docs/data-output.md, HDF5 layout)");
     }
   }
   RecordedTable table;
-  table.three_d =
-      H5Tget_member_index(type.get(), "pitch") >= 0 && H5Tget_member_index(type.get(), "roll") >= 0;
-  table.leds = HasLeds(path, {H5Tget_member_index(type.get(), kLedColumns[0]) >= 0,
-                              H5Tget_member_index(type.get(), kLedColumns[1]) >= 0,
-                              H5Tget_member_index(type.get(), kLedColumns[2]) >= 0});
-  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
-  if (count < 0) Bad(path, "cannot read the number of rows");
-  const size_t n = static_cast<size_t>(count);
-
-  // The numbers: a memory compound of the columns wanted, converted by HDF5.
-  std::vector<H5Numbers> numbers(n);
-  const H5Handle memory(H5Tcreate(H5T_COMPOUND, sizeof(H5Numbers)), H5Tclose);
-  H5Tinsert(memory.get(), "tick", HOFFSET(H5Numbers, tick), H5T_NATIVE_INT64);
-  H5Tinsert(memory.get(), "x", HOFFSET(H5Numbers, x), H5T_NATIVE_DOUBLE);
-  H5Tinsert(memory.get(), "y", HOFFSET(H5Numbers, y), H5T_NATIVE_DOUBLE);
-  H5Tinsert(memory.get(), "z", HOFFSET(H5Numbers, z), H5T_NATIVE_DOUBLE);
-  H5Tinsert(memory.get(), "yaw", HOFFSET(H5Numbers, yaw), H5T_NATIVE_DOUBLE);
-  if (table.three_d) {
-    H5Tinsert(memory.get(), "pitch", HOFFSET(H5Numbers, pitch), H5T_NATIVE_DOUBLE);
-    H5Tinsert(memory.get(), "roll", HOFFSET(H5Numbers, roll), H5T_NATIVE_DOUBLE);
-  }
-  for (int k = 0; table.leds && k < 3; ++k) {
-    H5Tinsert(memory.get(), kLedColumns[k], HOFFSET(H5Numbers, led) + k * sizeof(double),
-              H5T_NATIVE_DOUBLE);
-  }
-  if (n > 0 &&
-      H5Dread(dataset.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, numbers.data()) < 0) {
-    Bad(path, "cannot read the rows' tick, x, y, z, yaw (damaged or cut short?)");
-  }
-
-  // The ids, in their own type (fixed width as written, or variable length).
-  const H5Handle id_type(H5Tget_member_type(type.get(), H5Tget_member_index(type.get(), "id")),
-                         H5Tclose);
-  if (H5Tget_class(id_type.get()) != H5T_STRING) Bad(path, "column 'id' is not text");
-  const bool variable = H5Tis_variable_str(id_type.get()) > 0;
-  const size_t width = variable ? sizeof(char*) : H5Tget_size(id_type.get());
-  const H5Handle id_memory(H5Tcreate(H5T_COMPOUND, width), H5Tclose);
-  H5Tinsert(id_memory.get(), "id", 0, id_type.get());
-  std::vector<char> ids(n * width);
-  if (n > 0 &&
-      H5Dread(dataset.get(), id_memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, ids.data()) < 0) {
-    Bad(path, "cannot read the rows' ids (damaged or cut short?)");
-  }
-
+  table.three_d = columns[kPitch].present && columns[kRoll].present;
+  table.leds =
+      HasLeds(path, {columns[kLed].present, columns[kLed + 1].present, columns[kLed + 2].present});
   table.rows.resize(n);
   for (size_t r = 0; r < n; ++r) {
-    const H5Numbers& v = numbers[r];
     RecordedPose& pose = table.rows[r];
-    if (v.tick < 0) Bad(path, "row " + std::to_string(r) + ": tick " + std::to_string(v.tick));
-    pose.tick = static_cast<uint64_t>(v.tick);
-    pose.x = v.x;
-    pose.y = v.y;
-    pose.z = v.z;
-    pose.yaw = v.yaw;
+    const int64_t tick = columns[kTick].integers[r];
+    if (tick < 0) Bad(path, "row " + std::to_string(r) + ": tick " + std::to_string(tick));
+    pose.tick = static_cast<uint64_t>(tick);
+    pose.id = std::move(columns[kId].texts[r]);
+    pose.x = columns[kX].numbers[r];
+    pose.y = columns[kY].numbers[r];
+    pose.z = columns[kZ].numbers[r];
+    pose.yaw = columns[kYaw].numbers[r];
     if (table.three_d) {
-      pose.pitch = v.pitch;
-      pose.roll = v.roll;
+      pose.pitch = columns[kPitch].numbers[r];
+      pose.roll = columns[kRoll].numbers[r];
     }
-    for (int k = 0; table.leds && k < 3; ++k) pose.led[k] = v.led[k];
-    const char* cell = ids.data() + r * width;
-    if (variable) {
-      char* text = nullptr;
-      std::memcpy(&text, cell, sizeof text);
-      pose.id = text ? text : "";
-    } else {
-      pose.id.assign(cell, strnlen(cell, width));
-    }
-  }
-  if (variable && n > 0) {
-    H5Dvlen_reclaim(id_memory.get(), space.get(), H5P_DEFAULT, ids.data());
-  }
-  for (size_t r = 0; r < n; ++r) {
-    const RecordedPose& p = table.rows[r];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) ||
-        !std::isfinite(p.yaw) || !std::isfinite(p.pitch) || !std::isfinite(p.roll)) {
-      Bad(path, "row " + std::to_string(r) + " (robot '" + p.id + "', tick " +
-                    std::to_string(p.tick) + "): a pose that is not finite");
+    for (int k = 0; table.leds && k < 3; ++k) pose.led[k] = columns[kLed + k].numbers[r];
+    if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.z) ||
+        !std::isfinite(pose.yaw) || !std::isfinite(pose.pitch) || !std::isfinite(pose.roll)) {
+      Bad(path, "row " + std::to_string(r) + " (robot '" + pose.id + "', tick " +
+                    std::to_string(pose.tick) + "): a pose that is not finite");
     }
   }
   return table;
