@@ -13,7 +13,7 @@ cd "$(dirname "$0")"
 
 PACKAGES=(g++ make cmake pkg-config python3 libeigen3-dev libtinyxml2-dev libpng-dev libgtest-dev
           libbox2d-dev libode-dev nlohmann-json3-dev libosmesa6-dev libassimp-dev libopenmpi-dev openmpi-bin
-          liblua5.3-dev libcli11-dev libhdf5-dev gnuplot-nox libwebsocketpp-dev libasio-dev libjs-three
+          liblua5.3-dev libcli11-dev libhdf5-dev nettle-dev gnuplot-nox libwebsocketpp-dev libasio-dev libjs-three
           chromium python3-h5py python3-pandas python3-dev python3-numpy pybind11-dev python3-pytest python3-matplotlib)
 SANITIZE_PACKAGES=(clang libclang-rt-dev)
 BUILD_DIR=${COLONY_BUILD_DIR:-build}

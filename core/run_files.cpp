@@ -1,7 +1,7 @@
 #include "core/run_files.h"
 
 #include <fcntl.h>
-#include <openssl/evp.h>
+#include <nettle/sha2.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -78,29 +78,28 @@ void WriteFileAtomically(const std::string& path, std::string_view text, bool sy
 std::string FileSha256(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return "";
-  EVP_MD_CTX* context = EVP_MD_CTX_new();
-  bool ok = context && EVP_DigestInit_ex(context, EVP_sha256(), nullptr) == 1;
-  char buffer[1 << 16];
+  sha256_ctx context;
+  sha256_init(&context);
+  bool ok = true;
+  uint8_t buffer[1 << 16];
   for (;;) {
     const ssize_t n = ::read(fd, buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
-      ok = ok && n == 0;
+      ok = n == 0;
       break;
     }
-    ok = ok && EVP_DigestUpdate(context, buffer, static_cast<size_t>(n)) == 1;
+    sha256_update(&context, static_cast<size_t>(n), buffer);
   }
   ::close(fd);
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int size = 0;
-  ok = ok && EVP_DigestFinal_ex(context, digest, &size) == 1;
-  EVP_MD_CTX_free(context);
   if (!ok) return "";
+  uint8_t digest[SHA256_DIGEST_SIZE];
+  sha256_digest(&context, sizeof digest, digest);
   static const char kHex[] = "0123456789abcdef";
   std::string hex;
-  for (unsigned int i = 0; i < size; ++i) {
-    hex += kHex[digest[i] >> 4];
-    hex += kHex[digest[i] & 15];
+  for (const uint8_t byte : digest) {
+    hex += kHex[byte >> 4];
+    hex += kHex[byte & 15];
   }
   return hex;
 }
