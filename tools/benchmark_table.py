@@ -54,9 +54,10 @@ def main():
                 r["scene"], t, format(int(float(r["steps_per_s_median"])), ","), r["cpu_ns_per_robot_step"],
                 format(int(r["bytes_per_robot"]), ","), r["load_s_median"], r["physics_pct"], r["state_hash"]))
     lines += ["",
-              "Medians of %d repetitions%s, measured %s with a load average of %.1f to %.1f before the runs; "
+              "%s%s, measured %s with a load average of %.1f to %.1f before the runs; "
               "written by `tools/benchmark_table.py %s`." % (
-                  a.repeat, ", %d ticks each" % a.ticks if a.ticks else "", datetime.date.today().isoformat(),
+                  "Medians of %d repetitions" % a.repeat if a.repeat > 1 else "One run of each",
+                  ", %d ticks each" % a.ticks if a.ticks else "", datetime.date.today().isoformat(),
                   min(loads), max(loads), shlex.join(sys.argv[1:])), ""]
     docblock.replace_block(DOC, "%s results" % a.name, lines)
     print("docs/benchmarks.md: %s written" % a.name)
