@@ -334,7 +334,16 @@ void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::str
   for (uint32_t k = 0; k < order.size(); ++k)
     order[k] = {ZOrderKey(pose(k).position, space.arena_min(), space.arena_max()), k};
   std::sort(order.begin(), order.end());
+  constexpr size_t kAhead = 8;
   for (size_t i = 0; i < order.size(); ++i) {
+    if (i + kAhead < order.size()) {
+      const uint32_t ahead = order[i + kAhead].second;
+      if (solid) {
+        index.PrefetchPending(ahead);
+      } else {
+        __builtin_prefetch(&drawn[ahead]);
+      }
+    }
     const uint32_t k = order[i].second;
     desc.init.pose = pose(k);
     const EntityHandle h = add_numbered(static_cast<int64_t>(i));

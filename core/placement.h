@@ -67,6 +67,12 @@ class PlacementIndex {
   uint32_t InsertPending(const Pose& pose, int line);
   const Pose& PendingPose(uint32_t pending) const { return pending_[pending]; }
   void Settle(uint32_t pending, uint32_t slot) { items_[pending_base_ + pending].slot = slot; }
+  // Asks for a pending entity's pose and item early (read and settled in an
+  // order unrelated to the order drawn, a cache miss each in a big block).
+  void PrefetchPending(uint32_t pending) const {
+    __builtin_prefetch(&pending_[pending]);
+    __builtin_prefetch(&items_[pending_base_ + pending], 1);
+  }
   // Whether `item` is still pending (it has no slot, so no id yet).
   static bool IsPending(const Item& item) { return item.slot & kPending; }
 
