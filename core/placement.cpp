@@ -335,6 +335,7 @@ void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::str
     order[k] = {ZOrderKey(pose(k).position, space.arena_min(), space.arena_max()), k};
   std::sort(order.begin(), order.end());
   constexpr size_t kAhead = 8;
+  std::string next_id;
   for (size_t i = 0; i < order.size(); ++i) {
     if (i + kAhead < order.size()) {
       const uint32_t ahead = order[i + kAhead].second;
@@ -343,6 +344,10 @@ void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::str
       } else {
         __builtin_prefetch(&drawn[ahead]);
       }
+    }
+    if (i + 1 < order.size()) {
+      next_id = base_id + std::to_string(block.base_num + static_cast<int64_t>(i) + 1);
+      space.PrefetchId(next_id);
     }
     const uint32_t k = order[i].second;
     desc.init.pose = pose(k);

@@ -124,6 +124,13 @@ class Space {
            (flags_[h.index] & kAlive);
   }
   EntityHandle Find(std::string_view id) const;
+  // Asks for the id table's entry where `id` would be looked for, for a
+  // caller that knows the next id it will add (a <distribute> block): in a
+  // big swarm each lookup is a miss at a random place. Changes no result.
+  void PrefetchId(std::string_view id) const {
+    if (!id_table_.empty())
+      __builtin_prefetch(&id_table_[std::hash<std::string_view>()(id) & (id_table_.size() - 1)]);
+  }
   EntityHandle HandleOf(uint32_t index) const { return {index, generation_[index]}; }
 
   // Number of slots (alive or not); iterate 0..slots() and test alive().
