@@ -91,7 +91,6 @@ class Kinematics2dEngine : public kinematics2d::Engine {
     const size_t n = robots_.size();
     RankBySpace(space);
     candidate_.resize(n);
-    yaw_.resize(n);
     heading_.resize(n);
     body_.resize(n);
     first_.resize(n);
@@ -120,7 +119,6 @@ class Kinematics2dEngine : public kinematics2d::Engine {
         const double chord =
             std::abs(w * dt) > 1e-12 ? v * dt * std::sin(0.5 * w * dt) / (0.5 * w * dt) : v * dt;
         candidate_[k] = pose.position.head<2>() + chord * h.Direction(mid);
-        yaw_[i] = yaw0 + w * dt;
         local_max = std::max(local_max, std::abs(chord));
       }
       double seen = max_step.load();
@@ -170,7 +168,11 @@ class Kinematics2dEngine : public kinematics2d::Engine {
         Pose& pose = space.pose(s);
         Twist& twist = space.twist(s);
         const double w = (d.right - d.left) / d.wheel_base;
-        pose.orientation = heading_[i].FromYaw(yaw_[i]);
+        // The proposed heading, computed again rather than kept from the
+        // proposals (8 bytes per robot): the same operations on the same
+        // orientation and drive, so the same bits, and the memo answers YawOf.
+        Heading& h = heading_[i];
+        pose.orientation = h.FromYaw(h.YawOf(pose.orientation) + w * dt);
         twist.angular = Vec3(0, 0, w);
         if (blocked_[k]) {
           // Wheels only turn the robot on the spot; the rest slips.
@@ -247,12 +249,15 @@ class Kinematics2dEngine : public kinematics2d::Engine {
   };
 
   // What the collision test reads about a robot, copied from the space at
-  // the start of the step (so it is exact), stored by rank.
+  // the start of the step (so it is exact), stored by rank. The position is
+  // not aligned to 16 bytes (as a Vec2 is), which would pad a Body from 40
+  // to 48 bytes; the arithmetic on it is the same.
   struct Body {
-    Vec2 position;       // where it stands now
-    double bottom, top;  // height span (m)
+    Eigen::Matrix<double, 2, 1, Eigen::DontAlign> position;  // where it stands now
+    double bottom, top;                                      // height span (m)
     double radius;
   };
+  static_assert(sizeof(Body) == 40);
 
   void Reindex() {
     robot_index_.assign(sim().space().slots(), -1);
@@ -266,6 +271,7 @@ class Kinematics2dEngine : public kinematics2d::Engine {
     const size_t n = robots_.size();
     rank_.assign(n, UINT32_MAX);
     slot_at_.clear();
+    slot_at_.reserve(n);
     for (uint32_t s : space.movable_by_cell()) {
       const int32_t i = s < robot_index_.size() ? robot_index_[s] : -1;
       if (i < 0) continue;
@@ -308,7 +314,7 @@ class Kinematics2dEngine : public kinematics2d::Engine {
         const Body& other = body_[j];
         if (other.bottom >= z1 || z0 >= other.top) continue;
         const double rr = r + other.radius;
-        const Vec2& p = blocked_[j] ? other.position : candidate_[j];
+        const Vec2 p = blocked_[j] ? Vec2(other.position) : candidate_[j];
         if ((p - c).squaredNorm() < rr * rr) return true;
         close = close || (other.position - c).squaredNorm() < rr * rr;
       } else {
@@ -328,7 +334,6 @@ class Kinematics2dEngine : public kinematics2d::Engine {
   // By robot index (the order robots were added):
   std::vector<uint32_t> robots_;  // space slots of the wheeled robots
   std::vector<uint32_t> rank_;    // spatial rank of each robot
-  std::vector<double> yaw_;       // proposed heading
   std::vector<Heading> heading_;
   // By spatial rank:
   std::vector<uint32_t> slot_at_;  // space slot of the robot of each rank
