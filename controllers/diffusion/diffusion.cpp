@@ -9,7 +9,6 @@
 #include <cmath>
 #include <deque>
 #include <mutex>
-#include <span>
 #include <vector>
 
 #include "actuators/differential_steering/differential_steering.h"
@@ -59,7 +58,7 @@ class Diffusion : public colony::Controller {
   struct Ring {
     std::vector<float> angles, cos, sin;
   };
-  static const Ring& RingFor(std::span<const colony::ProximitySensor::Reading> readings) {
+  static const Ring& RingFor(const colony::ProximitySensor::Readings& readings) {
     static std::mutex mutex;
     static std::deque<Ring> rings;  // deque: a ring's address stays valid
     const std::lock_guard<std::mutex> lock(mutex);

@@ -10,7 +10,6 @@
 // the active sensors are on.
 #include <array>
 #include <cmath>
-#include <span>
 #include <string>
 
 #include "actuators/differential_steering/differential_steering.h"
@@ -32,8 +31,8 @@ class Avoid : public colony::Controller {
     proximity_ = &GetSensor<colony::ProximitySensor>("proximity");
     wheels_ = &GetActuator<colony::DifferentialSteering>("differential_steering");
     // The sensors' directions are constants of the robot (read once here,
-    // not polled): kept as a pointer to the ring's list, whose values are
-    // never read through it.
+    // not polled): kept as a view of the ring, whose values are never read
+    // through it.
     ring_ = proximity_->readings();
     if (ring_.size() > active_.size())
       throw std::invalid_argument("avoid handles rings of up to 24 sensors");
@@ -82,7 +81,7 @@ class Avoid : public colony::Controller {
   double speed_ = 0, threshold_ = 0, hysteresis_ = 0;
   bool events_ = false;
   std::array<bool, 24> active_{};
-  std::span<const colony::ProximitySensor::Reading> ring_;
+  colony::ProximitySensor::Readings ring_;
   colony::ProximitySensor* proximity_ = nullptr;
   colony::DifferentialSteering* wheels_ = nullptr;
 };

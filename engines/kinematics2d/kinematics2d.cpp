@@ -41,6 +41,11 @@ void Engine::SetCarried(uint32_t s, bool carried) {
 
 namespace {
 
+// A Vec2 or Quat without the 16-byte alignment that would pad the per-robot
+// structs below; the arithmetic on them is the same.
+using UnalignedVec2 = Eigen::Matrix<double, 2, 1, Eigen::DontAlign>;
+using UnalignedQuat = Eigen::Quaternion<double, Eigen::DontAlign>;
+
 // Memory layout. A step sweeps the robots three times: proposals and commit
 // read and write each robot's own state in the space (pose, drive, twist),
 // and the collision test reads each robot's neighbours. The space stores
@@ -91,7 +96,6 @@ class Kinematics2dEngine : public kinematics2d::Engine {
     const size_t n = robots_.size();
     RankBySpace(space);
     candidate_.resize(n);
-    yaw_.resize(n);
     heading_.resize(n);
     body_.resize(n);
     first_.resize(n);
@@ -120,7 +124,6 @@ class Kinematics2dEngine : public kinematics2d::Engine {
         const double chord =
             std::abs(w * dt) > 1e-12 ? v * dt * std::sin(0.5 * w * dt) / (0.5 * w * dt) : v * dt;
         candidate_[k] = pose.position.head<2>() + chord * h.Direction(mid);
-        yaw_[i] = yaw0 + w * dt;
         local_max = std::max(local_max, std::abs(chord));
       }
       double seen = max_step.load();
@@ -170,7 +173,11 @@ class Kinematics2dEngine : public kinematics2d::Engine {
         Pose& pose = space.pose(s);
         Twist& twist = space.twist(s);
         const double w = (d.right - d.left) / d.wheel_base;
-        pose.orientation = heading_[i].FromYaw(yaw_[i]);
+        // The proposed heading, computed again rather than kept from the
+        // proposals (8 bytes per robot): the same operations on the same
+        // orientation and drive, so the same bits, and the memo answers YawOf.
+        Heading& h = heading_[i];
+        pose.orientation = h.FromYaw(h.YawOf(pose.orientation) + w * dt);
         twist.angular = Vec3(0, 0, w);
         if (blocked_[k]) {
           // Wheels only turn the robot on the spot; the rest slips.
@@ -199,13 +206,10 @@ class Kinematics2dEngine : public kinematics2d::Engine {
     double YawOf(const Quat& q) {
       if (!Same(q, q_)) {
         q_ = q;
-        yaw_known_ = false;
-        to_yaw_known_ = false;
+        yaw_ = kUnknown;
+        to_yaw_ = kUnknown;
       }
-      if (!yaw_known_) {
-        yaw_ = colony::YawOf(q_);
-        yaw_known_ = true;
-      }
+      if (Same(yaw_, kUnknown)) yaw_ = colony::YawOf(Quat(q_));
       return yaw_;
     }
     // Unit vector at angle `a`.
@@ -218,41 +222,47 @@ class Kinematics2dEngine : public kinematics2d::Engine {
     }
     // The orientation of heading `yaw`, wrapped to (-pi, pi].
     Quat FromYaw(double yaw) {
-      if (!to_yaw_known_ || !Same(yaw, to_yaw_)) {
+      if (!Same(yaw, to_yaw_)) {
         to_yaw_ = yaw;
         q_ = colony::FromYaw(WrapAngle(yaw));
-        to_yaw_known_ = true;
-        yaw_known_ = false;
+        yaw_ = kUnknown;
       }
-      return q_;
+      return Quat(q_);
     }
 
    private:
     static bool Same(double a, double b) {
       return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b);
     }
-    static bool Same(const Quat& a, const Quat& b) {
+    static bool Same(const Quat& a, const UnalignedQuat& b) {
       return Same(a.x(), b.x()) && Same(a.y(), b.y()) && Same(a.z(), b.z()) && Same(a.w(), b.w());
     }
+    // Marks a memo as empty, in place of a flag: a signalling NaN, which no
+    // arithmetic, atan2 or caller's sum gives (they give quiet NaNs), so no
+    // heading is ever taken for it.
+    static constexpr double kUnknown = std::bit_cast<double>(uint64_t{0x7FF4000000000001});
     // One orientation serves both memos: the last one YawOf was given or
     // FromYaw made (a robot's orientation in the space is, while nothing
     // else turns it, what FromYaw made of it last tick). yaw_ is its yaw
-    // when yaw_known_; it is FromYaw(to_yaw_) when to_yaw_known_. 80 bytes
-    // per robot instead of 112 with an orientation per memo; the results
-    // are the same (a memo only returns what the function would).
-    Quat q_ = Quat::Identity();
-    Vec2 direction_ = Vec2(std::cos(0.0), std::sin(0.0));
-    double yaw_ = 0.0, angle_ = 0.0, to_yaw_ = 0.0;
-    bool yaw_known_ = false, to_yaw_known_ = false;
+    // unless kUnknown; it is FromYaw(to_yaw_) unless to_yaw_ is kUnknown.
+    // 72 bytes per robot (112 with an orientation per memo, 80 with flags
+    // and 16-byte aligned members); the results are the same (a memo only
+    // returns what the function would).
+    UnalignedQuat q_ = UnalignedQuat::Identity();
+    UnalignedVec2 direction_ = UnalignedVec2(std::cos(0.0), std::sin(0.0));
+    double yaw_ = kUnknown, angle_ = 0.0, to_yaw_ = kUnknown;
   };
+  static_assert(sizeof(Heading) == 72);
 
   // What the collision test reads about a robot, copied from the space at
-  // the start of the step (so it is exact), stored by rank.
+  // the start of the step (so it is exact), stored by rank (40 bytes; 48
+  // with an aligned Vec2).
   struct Body {
-    Vec2 position;       // where it stands now
-    double bottom, top;  // height span (m)
+    UnalignedVec2 position;  // where it stands now
+    double bottom, top;      // height span (m)
     double radius;
   };
+  static_assert(sizeof(Body) == 40);
 
   void Reindex() {
     robot_index_.assign(sim().space().slots(), -1);
@@ -266,6 +276,7 @@ class Kinematics2dEngine : public kinematics2d::Engine {
     const size_t n = robots_.size();
     rank_.assign(n, UINT32_MAX);
     slot_at_.clear();
+    slot_at_.reserve(n);
     for (uint32_t s : space.movable_by_cell()) {
       const int32_t i = s < robot_index_.size() ? robot_index_[s] : -1;
       if (i < 0) continue;
@@ -308,7 +319,7 @@ class Kinematics2dEngine : public kinematics2d::Engine {
         const Body& other = body_[j];
         if (other.bottom >= z1 || z0 >= other.top) continue;
         const double rr = r + other.radius;
-        const Vec2& p = blocked_[j] ? other.position : candidate_[j];
+        const Vec2 p = blocked_[j] ? Vec2(other.position) : candidate_[j];
         if ((p - c).squaredNorm() < rr * rr) return true;
         close = close || (other.position - c).squaredNorm() < rr * rr;
       } else {
@@ -328,7 +339,6 @@ class Kinematics2dEngine : public kinematics2d::Engine {
   // By robot index (the order robots were added):
   std::vector<uint32_t> robots_;  // space slots of the wheeled robots
   std::vector<uint32_t> rank_;    // spatial rank of each robot
-  std::vector<double> yaw_;       // proposed heading
   std::vector<Heading> heading_;
   // By spatial rank:
   std::vector<uint32_t> slot_at_;  // space slot of the robot of each rank

@@ -259,13 +259,16 @@ TEST(Argos3Configuration, MissingNodesAndAttributesNameTheirPath) {
 // Controller host and device adapters
 
 struct FakeProximity : colony::ProximitySensor {
-  // The readings are a view (the simulated sensor's blocks); the fake owns them.
+  // The readings are a view (values in the simulated sensor's blocks, angles
+  // in its ring's list); the fake owns both.
   void Resize(size_t n) {
-    storage.resize(n);
-    readings_ = storage;
+    values.resize(n);
+    angles.resize(n);
+    values_ = values.data();
+    angles_ = angles.data();
+    count_ = static_cast<uint32_t>(n);
   }
-  std::span<Reading> set() { return readings_; }
-  std::vector<Reading> storage;
+  std::vector<float> values, angles;
 };
 struct FakeGround : colony::GroundSensor {
   std::vector<Reading>& set() { return readings_; }
@@ -311,8 +314,7 @@ class HostTest : public ::testing::Test {
     ProbeController::on_init = nullptr;
     ProbeController::on_step = nullptr;
     proximity_.Resize(24);
-    for (int i = 0; i < 24; ++i)
-      proximity_.set()[i] = {0.0f, static_cast<float>((i + 0.5) * M_PI / 12)};
+    for (int i = 0; i < 24; ++i) proximity_.angles[i] = static_cast<float>((i + 0.5) * M_PI / 12);
     ground_.set().resize(8);
     for (int i = 0; i < 8; ++i)
       ground_.set()[i] = {1.0f, static_cast<float>(colony_wrap(i * M_PI / 4))};
@@ -375,7 +377,7 @@ TEST_F(HostTest, ArgosSensorNamesFindColonyDevicesAndReadingsAreFreshEachStep) {
   };
   auto host = Start();
   host->ControlStep();
-  proximity_.set()[3].value = 1.0f;
+  proximity_.values[3] = 1.0f;
   host->ControlStep();
   EXPECT_EQ(seen, (std::vector<Real>{0.0, 1.0}));
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <deque>
 #include <memory>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -21,29 +22,41 @@
 namespace colony {
 namespace {
 
+// What every robot with the same ring shares (owned by the system): a private
+// copy of the directions would cost 24 x 16 bytes per robot, of the angles
+// 24 x 4.
+struct ProximityRing {
+  const RingMount* mount = nullptr;
+  // Unit vectors of the sensors in the robot frame, one per reading.
+  const Vec2* directions = nullptr;
+  // The sensors' angles as the readings give them (rad, wrapped to (-pi, pi]).
+  std::vector<float> angles;
+  std::atomic<bool>* any_watch = nullptr;  // the system's: some instance has watches
+};
+
 // The random stream of a ring with noise is kept by the system (most rings
 // have none and draw nothing).
 struct ProximityInstance : ProximitySensor, InstanceBaseWithoutStream {
   using Interface = ProximitySensor;
-  std::span<Reading> mutable_readings() { return readings_; }
+  std::span<float> values() { return {values_, count_}; }
   // The readings, without counting a poll (ProximitySensor::readings does).
-  std::span<const Reading> stored() const { return readings_; }
-  void SetReadings(std::span<Reading> readings) { readings_ = readings; }
+  Readings stored() const { return {values_, angles_, count_}; }
+  void SetRing(const ProximityRing& shared, std::span<float> values) {
+    ring = &shared;
+    values_ = values.data();
+    angles_ = shared.angles.data();
+    count_ = static_cast<uint32_t>(values.size());
+  }
   int Watch(const ThresholdWatch& watch) override {
     if (!watches) watches = std::make_unique<ThresholdWatches>();
-    const int id = watches->Add(watch, static_cast<int>(readings_.size()),
-                                [this](int i) { return readings_[i].value; });
-    any_watch->store(true, std::memory_order_relaxed);
+    const int id =
+        watches->Add(watch, static_cast<int>(count_), [this](int i) { return values_[i]; });
+    ring->any_watch->store(true, std::memory_order_relaxed);
     return id;
   }
   // Null until the controller calls Watch: most robots never do.
   std::unique_ptr<ThresholdWatches> watches;
-  std::atomic<bool>* any_watch = nullptr;  // the system's: some instance has watches
-  const RingMount* mount = nullptr;
-  // Unit vectors of the sensors in the robot frame, one per reading. Shared by
-  // every robot with the same ring (owned by the system): a private copy
-  // would cost 24 x 16 bytes per robot.
-  const Vec2* directions = nullptr;
+  const ProximityRing* ring = nullptr;
 };
 
 class ProximitySystem : public SensorSystem {
@@ -58,15 +71,7 @@ class ProximitySystem : public SensorSystem {
     if (!mount) throw AttachError("it has no proximity ring");
     ProximityInstance& p = instances_.Add(robot, rng);
     if (noise_.enabled()) streams_.push_back(rng);
-    p.mount = mount;
-    const std::span<ProximitySensor::Reading> readings =
-        readings_.Take(static_cast<size_t>(mount->count));
-    for (int i = 0; i < mount->count; ++i) {
-      readings[i] = {0.0f, static_cast<float>(WrapAngle(mount->AngleOf(i)))};
-    }
-    p.SetReadings(readings);
-    p.directions = directions_.Of(*mount);
-    p.any_watch = &any_watch_;
+    p.SetRing(RingOf(*mount), values_.Take(static_cast<size_t>(mount->count)));
     return &p;
   }
   void Detach(Sensor* s) override { instances_.Remove(static_cast<ProximitySensor*>(s)); }
@@ -105,7 +110,8 @@ class ProximitySystem : public SensorSystem {
     auto query = [&](size_t k, auto&& fn) {
       const ProximityInstance& p = instances_[k];
       const Vec3& position = space.pose(p.robot.index).position;
-      const double reach = p.mount->radius + (range_ > 0 ? range_ : p.mount->range);
+      const RingMount& m = *p.ring->mount;
+      const double reach = m.radius + (range_ > 0 ? range_ : m.range);
       fn(position.x() - reach, position.y() - reach, position.x() + reach, position.y() + reach);
     };
     auto prefetch_cells = [&](size_t k) {
@@ -148,7 +154,7 @@ class ProximitySystem : public SensorSystem {
       std::vector<uint32_t>& near = *near_list;
       const uint32_t self = p.robot.index;
       const Pose& pose = space.pose(self);
-      const RingMount& m = *p.mount;
+      const RingMount& m = *p.ring->mount;
       const double range = range_ > 0 ? range_ : m.range;
       const double reach = m.radius + range;
       const Vec2 c = pose.position.head<2>();
@@ -169,17 +175,18 @@ class ProximitySystem : public SensorSystem {
         near[kept++] = o;
       }
       near.resize(kept);
-      const std::span<ProximitySensor::Reading> readings = p.mutable_readings();
+      const std::span<float> values = p.values();
       if (near.empty()) {
         // Nothing in range: every ray misses.
-        for (auto& r : readings) r.value = static_cast<float>(Noisy(0.0, k));
+        for (float& v : values) v = static_cast<float>(Noisy(0.0, k));
         if (p.watches) CheckWatches(p);
         continue;
       }
       const double yaw = YawOf(pose.orientation);
       const double cy = std::cos(yaw), sy = std::sin(yaw);
-      for (size_t i = 0; i < readings.size(); ++i) {
-        const Vec2& l = p.directions[i];
+      const Vec2* directions = p.ring->directions;
+      for (size_t i = 0; i < values.size(); ++i) {
+        const Vec2& l = directions[i];
         const Vec2 dir(cy * l.x() - sy * l.y(), sy * l.x() + cy * l.y());
         const Vec2 origin = c + m.radius * dir;
         double best = kNoHit;
@@ -187,23 +194,37 @@ class ProximitySystem : public SensorSystem {
           best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
         }
         const double value = best <= range ? std::min(1.0, 0.01 / std::max(best, 1e-6)) : 0.0;
-        readings[i].value = static_cast<float>(Noisy(value, k));
+        values[i] = static_cast<float>(Noisy(value, k));
       }
       if (p.watches) CheckWatches(p);
     }
   }
 
+  // Each robot's readings as {value, angle} pairs in ring order: the bytes
+  // of an array of Reading (the hash is FNV-1a, byte by byte).
   void Hash(StateHasher& h) const override {
     for (size_t k = 0; k < instances_.size(); ++k) {
-      const auto& r = instances_[k].stored();
-      if (instances_[k].alive) h.Add(r.data(), r.size() * sizeof(r[0]));
+      if (!instances_[k].alive) continue;
+      for (const ProximitySensor::Reading r : instances_[k].stored()) h.Add(&r, sizeof r);
     }
   }
 
  private:
+  const ProximityRing& RingOf(const RingMount& mount) {
+    for (const ProximityRing& ring : rings_) {
+      if (ring.mount == &mount) return ring;
+    }
+    ProximityRing& ring = rings_.emplace_back();
+    ring.mount = &mount;
+    ring.directions = directions_.Of(mount);
+    ring.any_watch = &any_watch_;
+    for (int i = 0; i < mount.count; ++i)
+      ring.angles.push_back(static_cast<float>(WrapAngle(mount.AngleOf(i))));
+    return ring;
+  }
   static void CheckWatches(ProximityInstance& p) {
-    const std::span<const ProximitySensor::Reading> readings = p.stored();
-    p.watches->Check(&p, [&readings](int i) { return readings[i].value; });
+    const float* values = p.values().data();
+    p.watches->Check(&p, [values](int i) { return values[i]; });
   }
   // `value` with instance k's noise (drawn from its stream), if any.
   double Noisy(double value, size_t k) {
@@ -215,11 +236,12 @@ class ProximitySystem : public SensorSystem {
   double range_ = -1;
   NoiseModel noise_;
   InstanceStore<ProximityInstance> instances_;
-  // Every instance's readings, in blocks (addresses stay put as robots come).
-  ArrayBlocks<ProximitySensor::Reading> readings_;
+  // Every instance's values, in blocks (addresses stay put as robots come).
+  ArrayBlocks<float> values_;
   // One stream per instance, in the same order, only with noise.
   std::deque<RandomStream> streams_;
-  RingDirections directions_;  // per ring mount (one per robot type)
+  RingDirections directions_;        // per ring mount (one per robot type)
+  std::deque<ProximityRing> rings_;  // per ring mount; a deque keeps them in place
   std::atomic<bool> any_watch_{false};
 };
 
