@@ -5,7 +5,7 @@ written into docs/benchmarks.md between <!-- scale results: begin --> and
 
     tools/scale_table.py --before /path/to/old/build [--after build]
         [--scene experiments/benchmarks/diffusion_1000000.xml ...]
-        [--repeat 3] [--ticks 5] [--threads 2]
+        [--repeat 3] [--ticks 5] [--threads 2] [--block scale]
 
 For each scene it runs `colony_bench SCENE --repeat 1 --ticks T --threads N`
 of the "before" build and of the "after" build in turn, K times (interleaved,
@@ -50,6 +50,8 @@ def main():
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--ticks", type=int, default=5)
     p.add_argument("--threads", type=int, default=2)
+    p.add_argument("--block", default="scale",
+                   help="the table's block in docs/benchmarks.md: <!-- BLOCK results: begin -->")
     a = p.parse_args()
     scenes = a.scene or ["experiments/benchmarks/diffusion_10000.xml",
                          "experiments/benchmarks/diffusion_100000.xml",
@@ -80,13 +82,13 @@ def main():
                 format(round(median(r, "steps_per_s_median")), ","), "`, `".join(hashes)))
     lines += ["",
               "Medians of %d interleaved runs of each build, %d ticks, %d threads, measured %s "
-              "with a load average of %.1f to %.1f before the runs (the machine's 2 cores were "
-              "shared); written by `tools/scale_table.py --before %s --repeat %d --ticks %d "
-              "--threads %d%s`." % (
+              "with a load average of %.1f to %.1f before the runs; written by "
+              "`tools/scale_table.py --before %s --repeat %d --ticks %d --threads %d%s%s`." % (
                   a.repeat, a.ticks, a.threads, datetime.date.today().isoformat(), min(loads),
                   max(loads), a.before, a.repeat, a.ticks, a.threads,
-                  "".join(" --scene " + s for s in (a.scene or []))), ""]
-    docblock.replace_block(DOC, "scale results", lines)
+                  "".join(" --scene " + s for s in (a.scene or [])),
+                  "" if a.block == "scale" else " --block " + a.block), ""]
+    docblock.replace_block(DOC, "%s results" % a.block, lines)
     print("\n".join(lines))
 
 
