@@ -282,10 +282,7 @@ void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::str
   EntityDesc desc = block.entity;
   const bool solid = desc.init.flags & kSolid;
   const bool movable = desc.init.flags & kMovable;
-  auto add_numbered = [&](int64_t i) {
-    desc.init.id = base_id + std::to_string(block.base_num + i);
-    return add(desc);
-  };
+  auto id_of = [&](int64_t i) { return base_id + std::to_string(block.base_num + i); };
   // Numbered by place: the poses drawn, in the order drawn, kept by the
   // index (solid entities, which later draws must stay clear of) or here.
   std::vector<Pose> drawn;
@@ -323,7 +320,8 @@ void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::str
       }
       continue;
     }
-    const EntityHandle h = add_numbered(i);
+    desc.init.id = id_of(i);
+    const EntityHandle h = add(desc);
     if (!h.valid()) return;
     if (solid) index.Insert(h.index, desc.line);
   }
@@ -335,7 +333,7 @@ void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::str
     order[k] = {ZOrderKey(pose(k).position, space.arena_min(), space.arena_max()), k};
   std::sort(order.begin(), order.end());
   constexpr size_t kAhead = 8;
-  std::string next_id;
+  std::string next_id = id_of(0);
   for (size_t i = 0; i < order.size(); ++i) {
     if (i + kAhead < order.size()) {
       const uint32_t ahead = order[i + kAhead].second;
@@ -345,13 +343,14 @@ void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::str
         __builtin_prefetch(&drawn[ahead]);
       }
     }
+    desc.init.id = std::move(next_id);
     if (i + 1 < order.size()) {
-      next_id = base_id + std::to_string(block.base_num + static_cast<int64_t>(i) + 1);
+      next_id = id_of(static_cast<int64_t>(i) + 1);
       space.PrefetchId(next_id);
     }
     const uint32_t k = order[i].second;
     desc.init.pose = pose(k);
-    const EntityHandle h = add_numbered(static_cast<int64_t>(i));
+    const EntityHandle h = add(desc);
     if (!h.valid()) return;
     if (solid) index.Settle(k, h.index);
   }
