@@ -301,9 +301,7 @@ void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::str
       placed = last_problem.empty();
     }
     if (!placed) {
-      const std::string which = block.order_by_place
-                                    ? "the next"
-                                    : "'" + base_id + std::to_string(block.base_num + i) + "'";
+      const std::string which = block.order_by_place ? "the next" : "'" + id_of(i) + "'";
       diagnostics.Add(Diagnostic{
           file, block.entity_line, "entity", "max_trials", std::to_string(block.max_trials),
           "could place only " + std::to_string(i) + " of " + std::to_string(block.quantity) +

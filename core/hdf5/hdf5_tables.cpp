@@ -307,17 +307,18 @@ size_t ReadColumns(const std::string& path, const std::string& dataset_name,
         H5Dread(dataset.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, cells.data()) < 0) {
       Unreadable("cannot read the rows' " + numeric_names + " (damaged or cut short?)");
     }
+    // Field k of every record into its column's vector (int64 or double).
+    auto scatter = [&](auto& to, size_t k) {
+      to.resize(n);
+      for (size_t r = 0; r < n; ++r) std::memcpy(&to[r], cells.data() + r * row + 8 * k, 8);
+    };
     for (size_t k = 0; k < numeric.size(); ++k) {
       Hdf5Column& column = out[numeric[k]];
-      const bool integer = wanted[numeric[k]].type == ColumnType::kInteger;
-      if (integer) {
-        column.integers.resize(n);
+      if (wanted[numeric[k]].type == ColumnType::kInteger) {
+        scatter(column.integers, k);
       } else {
-        column.numbers.resize(n);
+        scatter(column.numbers, k);
       }
-      void* to = integer ? static_cast<void*>(column.integers.data()) : column.numbers.data();
-      for (size_t r = 0; r < n; ++r)
-        std::memcpy(static_cast<unsigned char*>(to) + 8 * r, cells.data() + r * row + 8 * k, 8);
     }
   }
 
