@@ -143,23 +143,31 @@ class Params {
   std::string base_directory_;
 };
 
-// What the host hands a controller: its robot's id and the devices declared
-// for it in the experiment file, by label. Filled by the simulator (or by a
-// real robot's runtime) before Init. A device's label is its element's name
-// as written (`footbot_proximity`); its name is the registered device it
-// stands for (`proximity`), the same unless the file used an alias. A
-// controller finds a device by either.
-struct DeviceTable {
-  const std::string* robot_id = nullptr;
+// The labels and names of the devices declared for a controller in the
+// experiment file, shared by every robot of that controller (one per
+// <controllers> entry). A device's label is its element's name as written
+// (`footbot_proximity`); its name is the registered device it stands for
+// (`proximity`), the same unless the file used an alias. A controller finds
+// a device by either.
+struct DeviceLabels {
   const std::vector<std::string>* sensor_labels = nullptr;
   const std::vector<std::string>* sensor_names = nullptr;  // null: the labels
-  Sensor* const* sensors = nullptr;
   const std::vector<std::string>* actuator_labels = nullptr;
   const std::vector<std::string>* actuator_names = nullptr;  // null: the labels
-  Actuator* const* actuators = nullptr;
   // The folder this run's files go to (null or "": none), for a controller
   // that reads something a loop function or an earlier tick put there.
   const std::string* run_folder = nullptr;
+};
+
+// What the host hands a controller: its robot's id and the devices declared
+// for it, in the order of `labels`. Filled by the simulator (or by a real
+// robot's runtime) before Init. Per robot only what differs from robot to
+// robot (32 bytes; the labels are its controller's, shared).
+struct DeviceTable {
+  const std::string* robot_id = nullptr;
+  Sensor* const* sensors = nullptr;
+  Actuator* const* actuators = nullptr;
+  const DeviceLabels* labels = nullptr;
 };
 
 // Where a controller (Controller::RecordValues) or loop functions
@@ -243,7 +251,7 @@ class Controller {
   // none). Controllers run in parallel: write files from loop functions.
   const std::string& run_folder() const {
     static const std::string none;
-    return devices_.run_folder ? *devices_.run_folder : none;
+    return devices_.labels && devices_.labels->run_folder ? *devices_.labels->run_folder : none;
   }
   // This robot's own random stream (deterministic whatever the thread count).
   // Made on the first call: most controllers never draw, and a stream is 32
@@ -257,13 +265,13 @@ class Controller {
   // std::logic_error when it is not declared or is not a T.
   template <class T>
   T& GetSensor(std::string_view label) const {
-    return Lookup<T>(label, *devices_.sensor_labels, devices_.sensor_names, devices_.sensors,
-                     "sensor", "<sensors>");
+    return Lookup<T>(label, *devices_.labels->sensor_labels, devices_.labels->sensor_names,
+                     devices_.sensors, "sensor", "<sensors>");
   }
   template <class T>
   T& GetActuator(std::string_view label) const {
-    return Lookup<T>(label, *devices_.actuator_labels, devices_.actuator_names, devices_.actuators,
-                     "actuator", "<actuators>");
+    return Lookup<T>(label, *devices_.labels->actuator_labels, devices_.labels->actuator_names,
+                     devices_.actuators, "actuator", "<actuators>");
   }
   // Every declared device, for hosts of controllers in other languages (Lua,
   // the ARGoS compatibility layer) that enumerate them.

@@ -143,13 +143,9 @@ void Simulation::AttachController(Robot& robot, int line) {
   }
   DeviceTable table;
   table.robot_id = &id;
-  table.sensor_labels = &config.sensor_labels;
-  table.sensor_names = &config.sensor_names;
   table.sensors = robot.sensors;
-  table.actuator_labels = &config.actuator_labels;
-  table.actuator_names = &config.actuator_names;
   table.actuators = robot.actuators;
-  table.run_folder = &run_folder_;
+  table.labels = &config.labels;
   robot.controller->Bind(table, RandomStream::SeedFor(seed_, id, "controller"));
   robot.timing.reset();
   if (config.step_period > 0 || config.any_bus) robot.timing = std::make_unique<Robot::Timing>();

@@ -262,6 +262,7 @@ class Simulation {
     Params params;
     std::vector<std::string> sensor_labels, actuator_labels;  // element names as written
     std::vector<std::string> sensor_names, actuator_names;    // the registered devices'
+    DeviceLabels labels;  // the above and the run folder, for every robot's DeviceTable
     std::vector<SensorSystem*> sensors;
     std::vector<ActuatorSystem*> actuators;
     std::vector<ConfigNode> sensor_nodes, actuator_nodes;

@@ -223,6 +223,8 @@ void Simulation::CreateControllers(const std::vector<ControllerSpec>& controller
     ReadTiming(*config);
     CreateDevices(c.actuators, "actuator", config->actuator_labels, config->actuator_names,
                   config->actuators, config->actuator_nodes, actuator_systems_);
+    config->labels = {&config->sensor_labels, &config->sensor_names, &config->actuator_labels,
+                      &config->actuator_names, &run_folder_};
     controller_configs_.push_back(std::move(config));
   }
 }

@@ -51,10 +51,11 @@ colony::Sensor* SensorOf(const colony::Simulation& sim, uint32_t slot, const std
   const colony::Controller* controller = sim.ControllerOf(sim.space().HandleOf(slot));
   if (!controller) return nullptr;
   const colony::DeviceTable& devices = controller->devices();
-  if (!devices.sensor_labels) return nullptr;
-  const auto& labels = *devices.sensor_labels;
+  if (!devices.labels) return nullptr;
+  const auto& labels = *devices.labels->sensor_labels;
   for (size_t i = 0; i < labels.size(); ++i) {
-    if (labels[i] == name || (devices.sensor_names && (*devices.sensor_names)[i] == name)) {
+    if (labels[i] == name ||
+        (devices.labels->sensor_names && (*devices.labels->sensor_names)[i] == name)) {
       return devices.sensors[i];
     }
   }
@@ -68,11 +69,11 @@ std::vector<std::string> SensorNames(const colony::Simulation& sim) {
   const colony::Space& space = sim.space();
   for (uint32_t slot : RobotSlots(space)) {
     const colony::Controller* controller = sim.ControllerOf(space.HandleOf(slot));
-    if (!controller || !controller->devices().sensor_labels) continue;
+    if (!controller || !controller->devices().labels) continue;
     const colony::DeviceTable& devices = controller->devices();
-    for (size_t i = 0; i < devices.sensor_labels->size(); ++i) {
-      const std::string& name =
-          devices.sensor_names ? (*devices.sensor_names)[i] : (*devices.sensor_labels)[i];
+    for (size_t i = 0; i < devices.labels->sensor_labels->size(); ++i) {
+      const std::string& name = devices.labels->sensor_names ? (*devices.labels->sensor_names)[i]
+                                                             : (*devices.labels->sensor_labels)[i];
       if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
     }
   }
@@ -89,10 +90,11 @@ colony::Actuator* ActuatorOf(const colony::Simulation& sim, uint32_t slot,
   const colony::Controller* controller = sim.ControllerOf(sim.space().HandleOf(slot));
   if (!controller) return nullptr;
   const colony::DeviceTable& devices = controller->devices();
-  if (!devices.actuator_labels) return nullptr;
-  const auto& labels = *devices.actuator_labels;
+  if (!devices.labels) return nullptr;
+  const auto& labels = *devices.labels->actuator_labels;
   for (size_t i = 0; i < labels.size(); ++i) {
-    if (labels[i] == name || (devices.actuator_names && (*devices.actuator_names)[i] == name)) {
+    if (labels[i] == name ||
+        (devices.labels->actuator_names && (*devices.labels->actuator_names)[i] == name)) {
       return devices.actuators[i];
     }
   }
@@ -111,9 +113,10 @@ std::vector<std::string> ActuatorNames(const colony::Simulation& sim) {
   for (uint32_t slot : RobotSlots(space)) {
     if (!IsExternal(sim, slot)) continue;
     const colony::DeviceTable& devices = sim.ControllerOf(space.HandleOf(slot))->devices();
-    for (size_t i = 0; i < devices.actuator_labels->size(); ++i) {
-      const std::string& name =
-          devices.actuator_names ? (*devices.actuator_names)[i] : (*devices.actuator_labels)[i];
+    for (size_t i = 0; i < devices.labels->actuator_labels->size(); ++i) {
+      const std::string& name = devices.labels->actuator_names
+                                    ? (*devices.labels->actuator_names)[i]
+                                    : (*devices.labels->actuator_labels)[i];
       if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
     }
   }

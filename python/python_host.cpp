@@ -173,19 +173,19 @@ void Put(py::dict& readings, const DeviceName& d, const char* suffix, py::handle
 }  // namespace
 
 std::vector<DeviceName> SensorNames(const DeviceTable& devices) {
-  return Names(*devices.sensor_labels, devices.sensor_names);
+  return Names(*devices.labels->sensor_labels, devices.labels->sensor_names);
 }
 
 std::vector<DeviceName> ActuatorNames(const DeviceTable& devices) {
-  return Names(*devices.actuator_labels, devices.actuator_names);
+  return Names(*devices.labels->actuator_labels, devices.labels->actuator_names);
 }
 
 void CheckArraySensors(const DeviceTable& devices) {
-  for (size_t i = 0; i < devices.sensor_labels->size(); ++i) {
+  for (size_t i = 0; i < devices.labels->sensor_labels->size(); ++i) {
     SensorArrays probe;
     if (!ReadSensorArrays({devices.sensors[i]}, false, probe)) {
       throw std::runtime_error(
-          "sensor '" + (*devices.sensor_labels)[i] +
+          "sensor '" + (*devices.labels->sensor_labels)[i] +
           "' has no array form for Python controllers; those that have: " + kArraySensors);
     }
   }

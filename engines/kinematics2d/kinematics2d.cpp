@@ -204,12 +204,15 @@ class Kinematics2dEngine : public kinematics2d::Engine {
   class Heading {
    public:
     double YawOf(const Quat& q) {
-      if (!Same(q, q_)) {
-        q_ = q;
+      if (!Holds(q)) {
+        // Only a turn about the vertical is remembered (what FromYaw makes).
+        if (!Planar(q)) return colony::YawOf(q);
+        z_ = q.z();
+        w_ = q.w();
         yaw_ = kUnknown;
         to_yaw_ = kUnknown;
       }
-      if (Same(yaw_, kUnknown)) yaw_ = colony::YawOf(Quat(q_));
+      if (Same(yaw_, kUnknown)) yaw_ = colony::YawOf(Orientation());
       return yaw_;
     }
     // Unit vector at angle `a`.
@@ -223,36 +226,48 @@ class Kinematics2dEngine : public kinematics2d::Engine {
     // The orientation of heading `yaw`, wrapped to (-pi, pi].
     Quat FromYaw(double yaw) {
       if (!Same(yaw, to_yaw_)) {
+        const Quat q = colony::FromYaw(WrapAngle(yaw));
+        if (!Planar(q)) {  // a NaN yaw: not remembered
+          to_yaw_ = kUnknown;
+          return q;
+        }
         to_yaw_ = yaw;
-        q_ = colony::FromYaw(WrapAngle(yaw));
+        z_ = q.z();
+        w_ = q.w();
         yaw_ = kUnknown;
       }
-      return Quat(q_);
+      return Orientation();
     }
 
    private:
     static bool Same(double a, double b) {
       return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b);
     }
-    static bool Same(const Quat& a, const UnalignedQuat& b) {
-      return Same(a.x(), b.x()) && Same(a.y(), b.y()) && Same(a.z(), b.z()) && Same(a.w(), b.w());
+    // A turn by `a` about the vertical is (x, y, z, w) = (0 sin(a/2),
+    // 0 sin(a/2), sin(a/2), cos(a/2)) as Eigen computes it: x and y are zeros
+    // carrying the sign of z. Such an orientation is kept as z and w alone.
+    static double ZeroLike(double z) { return std::copysign(0.0, z); }
+    static bool Planar(const Quat& q) {
+      return Same(q.x(), ZeroLike(q.z())) && Same(q.y(), ZeroLike(q.z()));
     }
+    bool Holds(const Quat& q) const { return Same(q.z(), z_) && Same(q.w(), w_) && Planar(q); }
+    Quat Orientation() const { return Quat(w_, ZeroLike(z_), ZeroLike(z_), z_); }
     // Marks a memo as empty, in place of a flag: a signalling NaN, which no
     // arithmetic, atan2 or caller's sum gives (they give quiet NaNs), so no
     // heading is ever taken for it.
     static constexpr double kUnknown = std::bit_cast<double>(uint64_t{0x7FF4000000000001});
     // One orientation serves both memos: the last one YawOf was given or
     // FromYaw made (a robot's orientation in the space is, while nothing
-    // else turns it, what FromYaw made of it last tick). yaw_ is its yaw
-    // unless kUnknown; it is FromYaw(to_yaw_) unless to_yaw_ is kUnknown.
-    // 72 bytes per robot (112 with an orientation per memo, 80 with flags
-    // and 16-byte aligned members); the results are the same (a memo only
-    // returns what the function would).
-    UnalignedQuat q_ = UnalignedQuat::Identity();
+    // else turns it, what FromYaw made of it last tick), its z and w. yaw_
+    // is its yaw unless kUnknown; it is FromYaw(to_yaw_) unless to_yaw_ is
+    // kUnknown. 56 bytes per robot (72 with the whole orientation, 112 with
+    // an orientation per memo); the results are the same (a memo only
+    // returns what the function would, bit for bit).
+    double z_ = 0.0, w_ = 1.0;
     UnalignedVec2 direction_ = UnalignedVec2(std::cos(0.0), std::sin(0.0));
     double yaw_ = kUnknown, angle_ = 0.0, to_yaw_ = kUnknown;
   };
-  static_assert(sizeof(Heading) == 72);
+  static_assert(sizeof(Heading) == 56);
 
   // What the collision test reads about a robot, copied from the space at
   // the start of the step (so it is exact), stored by rank (40 bytes; 48

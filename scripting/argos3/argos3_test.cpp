@@ -320,11 +320,12 @@ class HostTest : public ::testing::Test {
       ground_.set()[i] = {1.0f, static_cast<float>(colony_wrap(i * M_PI / 4))};
     sensors_ = {&proximity_, &ground_, &camera_, &rab_sensor_, &positioning_};
     actuators_ = {&wheels_, &leds_, &rab_actuator_};
+    labels_.sensor_labels = &sensor_labels_;
+    labels_.actuator_labels = &actuator_labels_;
     table_.robot_id = &id_;
-    table_.sensor_labels = &sensor_labels_;
     table_.sensors = sensors_.data();
-    table_.actuator_labels = &actuator_labels_;
     table_.actuators = actuators_.data();
+    table_.labels = &labels_;
   }
   static double colony_wrap(double a) { return a > M_PI ? a - 2 * M_PI : a; }
 
@@ -351,6 +352,7 @@ class HostTest : public ::testing::Test {
                                                "range_and_bearing"};
   std::vector<colony::Sensor*> sensors_;
   std::vector<colony::Actuator*> actuators_;
+  colony::DeviceLabels labels_;
   colony::DeviceTable table_;
 };
 

@@ -467,12 +467,12 @@ void RobotTable::Build(lua_State* L, int env, const DeviceTable& devices, Random
       filled.emplace_back(entry, label);
     }
   };
-  for (size_t i = 0; i < devices.actuator_labels->size(); ++i) {
-    const std::string& label = (*devices.actuator_labels)[i];
+  for (size_t i = 0; i < devices.labels->actuator_labels->size(); ++i) {
+    const std::string& label = (*devices.labels->actuator_labels)[i];
     claim(BindActuator(L, robot, label, devices.actuators[i]), label, "actuator");
   }
-  for (size_t i = 0; i < devices.sensor_labels->size(); ++i) {
-    const std::string& label = (*devices.sensor_labels)[i];
+  for (size_t i = 0; i < devices.labels->sensor_labels->size(); ++i) {
+    const std::string& label = (*devices.labels->sensor_labels)[i];
     claim(BindSensor(L, robot, label, devices.sensors[i]), label, "sensor");
   }
   // robot.watch (Colony's, not ARGoS's): events from sensors (docs/events.md).

@@ -698,17 +698,17 @@ std::string InspectJson(const Simulation& sim, uint32_t slot, const RobotLog& lo
   out["controller"] = sim.ControllerLabelOf(space.HandleOf(slot));
   const DeviceTable& devices = controller->devices();
   json sensors = json::array(), actuators = json::array();
-  for (size_t i = 0; devices.sensor_labels && i < devices.sensor_labels->size(); ++i) {
+  for (size_t i = 0; devices.labels && i < devices.labels->sensor_labels->size(); ++i) {
     json sensor = DescribeSensor(devices.sensors[i]);
-    sensor["label"] = (*devices.sensor_labels)[i];
+    sensor["label"] = (*devices.labels->sensor_labels)[i];
     if (sensor["kind"] == "proximity") sensor["rays"] = ProximityRays(sim, slot);
     if (json fov = FieldOfViewSegments(sim, devices.sensors[i]); !fov.is_null())
       sensor["fov"] = std::move(fov);
     sensors.push_back(std::move(sensor));
   }
-  for (size_t i = 0; devices.actuator_labels && i < devices.actuator_labels->size(); ++i) {
+  for (size_t i = 0; devices.labels && i < devices.labels->actuator_labels->size(); ++i) {
     json actuator = DescribeActuator(devices.actuators[i]);
-    actuator["label"] = (*devices.actuator_labels)[i];
+    actuator["label"] = (*devices.labels->actuator_labels)[i];
     actuators.push_back(std::move(actuator));
   }
   JsonValues values;

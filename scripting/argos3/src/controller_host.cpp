@@ -450,19 +450,22 @@ void ControllerHost::Keep(std::unique_ptr<CRandom::CRNG> rng) { rngs_.push_back(
 
 bool ControllerHost::HasDevice(const std::string& label, bool sensor) const {
   const auto& table = devices();
-  return sensor
-             ? FindDevice(label, *table.sensor_labels, table.sensor_names, true).has_value()
-             : FindDevice(label, *table.actuator_labels, table.actuator_names, false).has_value();
+  return sensor ? FindDevice(label, *table.labels->sensor_labels, table.labels->sensor_names, true)
+                      .has_value()
+                : FindDevice(label, *table.labels->actuator_labels, table.labels->actuator_names,
+                             false)
+                      .has_value();
 }
 
 CCI_Sensor* ControllerHost::FindSensor(const std::string& label, const std::type_info& wanted) {
   const auto& table = devices();
-  const auto index = FindDevice(label, *table.sensor_labels, table.sensor_names, true);
+  const auto index =
+      FindDevice(label, *table.labels->sensor_labels, table.labels->sensor_names, true);
   if (!index) {
     THROW_ARGOSEXCEPTION("Unknown sensor type " << label
                                                 << " requested in controller. Did you add it to "
                                                    "the XML file? Declared: "
-                                                << Declared(*table.sensor_labels));
+                                                << Declared(*table.labels->sensor_labels));
   }
   colony::Sensor* device = table.sensors[*index];
   // What the controller gets: fixed by the Colony device, except for the
@@ -473,7 +476,7 @@ CCI_Sensor* ControllerHost::FindSensor(const std::string& label, const std::type
   if (dynamic_cast<colony::GroundSensor*>(device)) {
     const bool base = wanted == typeid(CCI_FootBotBaseGroundSensor) ||
                       (wanted != typeid(CCI_FootBotMotorGroundSensor) &&
-                       (*table.sensor_labels)[*index] == "footbot_base_ground");
+                       (*table.labels->sensor_labels)[*index] == "footbot_base_ground");
     kind = base ? SensorKind::kBaseGround : SensorKind::kMotorGround;
   }
   if (dynamic_cast<colony::OmnidirectionalCamera*>(device)) kind = SensorKind::kCamera;
@@ -526,12 +529,13 @@ CCI_Sensor* ControllerHost::FindSensor(const std::string& label, const std::type
 
 CCI_Actuator* ControllerHost::FindActuator(const std::string& label) {
   const auto& table = devices();
-  const auto index = FindDevice(label, *table.actuator_labels, table.actuator_names, false);
+  const auto index =
+      FindDevice(label, *table.labels->actuator_labels, table.labels->actuator_names, false);
   if (!index) {
     THROW_ARGOSEXCEPTION("Unknown actuator type " << label
                                                   << " requested in controller. Did you add it "
                                                      "to the XML file? Declared: "
-                                                  << Declared(*table.actuator_labels));
+                                                  << Declared(*table.labels->actuator_labels));
   }
   for (auto& a : devices_->actuators)
     if (a.index == *index) return a.adapter.get();
