@@ -78,8 +78,8 @@ class ComponentPool final : public ComponentPoolBase {
   void Reserve(size_t more) {
     items_.reserve(items_.size() + more);
     owners_.reserve(owners_.size() + more);
-    AdviseHugePages(items_);
-    AdviseHugePages(owners_);
+    AdviseHugePages(items_, Prefault::kInBackground);
+    AdviseHugePages(owners_, Prefault::kInBackground);
   }
   T& operator[](uint32_t index) { return items_[index]; }
   const T& operator[](uint32_t index) const { return items_[index]; }

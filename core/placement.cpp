@@ -95,10 +95,10 @@ PlacementIndex::PlacementIndex(double cell, const Space& space, size_t expected)
   tail_.reserve(cells);
   items_.reserve(expected);
   entries_.reserve(2 * expected);  // a footprint spans 1.8 cells on average at 0.5 m
-  AdviseHugePages(head_);
-  AdviseHugePages(tail_);
-  AdviseHugePages(items_);
-  AdviseHugePages(entries_);
+  AdviseHugePages(head_, Prefault::kInBackground);
+  AdviseHugePages(tail_, Prefault::kInBackground);
+  AdviseHugePages(items_, Prefault::kInBackground);
+  AdviseHugePages(entries_, Prefault::kInBackground);
   head_.assign(cells, kNone);
   tail_.assign(cells, kNone);
 }

@@ -51,17 +51,17 @@ void Space::Reserve(size_t more, const EntityInit& like) {
   component_refs_.reserve(component_refs_.size() + more * like.components.size());
   leds_.reserve(leds_.size() + more * static_cast<size_t>(like.led_count));
   // Filled in order as the block is placed; large enough only in big swarms.
-  AdviseHugePages(poses_);
-  AdviseHugePages(twists_);
-  AdviseHugePages(geometries_);
-  AdviseHugePages(colors_);
-  AdviseHugePages(masses_);
-  AdviseHugePages(generation_);
-  AdviseHugePages(led_offset_);
-  AdviseHugePages(light_slot_);
-  AdviseHugePages(component_begin_);
-  AdviseHugePages(component_refs_);
-  AdviseHugePages(leds_);
+  AdviseHugePages(poses_, Prefault::kInBackground);
+  AdviseHugePages(twists_, Prefault::kInBackground);
+  AdviseHugePages(geometries_, Prefault::kInBackground);
+  AdviseHugePages(colors_, Prefault::kInBackground);
+  AdviseHugePages(masses_, Prefault::kInBackground);
+  AdviseHugePages(generation_, Prefault::kInBackground);
+  AdviseHugePages(led_offset_, Prefault::kInBackground);
+  AdviseHugePages(light_slot_, Prefault::kInBackground);
+  AdviseHugePages(component_begin_, Prefault::kInBackground);
+  AdviseHugePages(component_refs_, Prefault::kInBackground);
+  AdviseHugePages(leds_, Prefault::kInBackground);
   GrowIdTable(n);
 }
 
@@ -81,7 +81,7 @@ void Space::GrowIdTable(size_t entries) {
   while (size < 2 * entries) size *= 2;
   std::vector<uint32_t> old = std::move(id_table_);
   id_table_.reserve(size);
-  AdviseHugePages(id_table_);  // probed at random
+  AdviseHugePages(id_table_, Prefault::kInBackground);  // probed at random, filled whole
   id_table_.assign(size, kNoSlot);
   id_table_used_ = 0;
   for (uint32_t slot : old) {

@@ -4,6 +4,8 @@
 #include "core/space.h"
 
 #include <gtest/gtest.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +13,7 @@
 #include <vector>
 
 #include "core/device.h"
+#include "core/huge_pages.h"
 
 namespace colony {
 namespace {
@@ -370,6 +373,61 @@ TEST(core_test_device_blocks, ArrayBlocksGiveZeroedSeparateArrays) {
   for (uint32_t i = 0; i < 50'000; ++i) {
     ASSERT_TRUE(std::all_of(taken[i].begin(), taken[i].end(), [i](uint32_t v) { return v == i; }));
   }
+}
+
+// The whole 2 MB pages inside a vector's capacity: what AdviseHugePages acts on.
+std::pair<uintptr_t, uintptr_t> WholeHugePages(const std::vector<uint64_t>& v) {
+  constexpr uintptr_t kHuge = uintptr_t{2} << 20;
+  const uintptr_t at = reinterpret_cast<uintptr_t>(v.data());
+  return {(at + kHuge - 1) & ~(kHuge - 1), (at + v.capacity() * sizeof(uint64_t)) & ~(kHuge - 1)};
+}
+
+// Pages of [begin, end) resident now, without touching them.
+size_t ResidentPages(uintptr_t begin, uintptr_t end) {
+  const size_t page = static_cast<size_t>(sysconf(_SC_PAGESIZE));
+  std::vector<unsigned char> in((end - begin + page - 1) / page);
+  if (mincore(reinterpret_cast<void*>(begin), end - begin, in.data()) != 0) return 0;
+  return static_cast<size_t>(
+      std::count_if(in.begin(), in.end(), [](unsigned char c) { return c & 1; }));
+}
+
+bool KernelPopulates() {
+  const size_t bytes = 1 << 16;
+  void* p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  const bool ok = p != MAP_FAILED && madvise(p, bytes, MADV_POPULATE_WRITE) == 0;
+  if (p != MAP_FAILED) munmap(p, bytes);
+  return ok;
+}
+
+// A big swarm's arrays are mapped in by a background thread before the
+// loader fills them (core/huge_pages.h): the pages are there without the
+// caller touching them, and read as zeros.
+TEST(core_test_huge_pages, PrefaultMapsTheWholePagesBeforeTheyAreTouched) {
+  if (!KernelPopulates()) GTEST_SKIP() << "this kernel has no MADV_POPULATE_WRITE (Linux < 5.14)";
+  std::vector<uint64_t> v;
+  v.reserve(size_t{8} << 20);  // 64 MB
+  const auto [begin, end] = WholeHugePages(v);
+  ASSERT_LT(begin, end);
+  const size_t page = static_cast<size_t>(sysconf(_SC_PAGESIZE));
+  const size_t pages = (end - begin) / page;
+  EXPECT_LT(ResidentPages(begin, end), pages / 4);  // fresh memory: mostly not mapped yet
+  AdviseHugePages(v, Prefault::kInBackground);
+  WaitForBackgroundPrefaults();
+  EXPECT_EQ(ResidentPages(begin, end), pages);
+  const auto* words = reinterpret_cast<const uint64_t*>(begin);
+  for (size_t i = 0; i < (end - begin) / sizeof(uint64_t); i += 4096) ASSERT_EQ(words[i], 0u);
+}
+
+// ... and populating never changes what the memory holds, even while the
+// caller is writing it.
+TEST(core_test_huge_pages, PrefaultKeepsWhatTheArrayHolds) {
+  std::vector<uint64_t> v;
+  v.reserve(size_t{8} << 20);
+  AdviseHugePages(v, Prefault::kInBackground);
+  for (size_t i = 0; i < v.capacity(); ++i) v.push_back(i * 2654435761u);
+  AdviseHugePages(v, Prefault::kInBackground);  // again, over memory already written
+  WaitForBackgroundPrefaults();
+  for (size_t i = 0; i < v.size(); ++i) ASSERT_EQ(v[i], i * 2654435761u) << "at " << i;
 }
 
 }  // namespace
