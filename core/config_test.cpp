@@ -537,5 +537,28 @@ TEST(core_test_params, GetNumbersReadsAListStrictly) {
   EXPECT_NE(message("high", 0, 90).find("95 is out of range"), std::string::npos);
 }
 
+// Every robot of a controller reads the same Params: the number is parsed
+// once, yet each reader's range is still checked and a bad value still named.
+TEST(core_test_params, GetDoubleChecksEveryReadersRange) {
+  Params p;
+  p.Set("speed", "0.5");
+  p.Set("word", "fast");
+  EXPECT_EQ(p.GetDouble("speed", 1, 0, 10), 0.5);
+  EXPECT_EQ(p.GetDouble("speed", 1, 0, 10), 0.5);
+  auto message = [&](const char* key, double min, double max) {
+    try {
+      p.GetDouble(key, 1, min, max);
+    } catch (const ParamError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("speed", 1, 2).find("0.5 is out of range"), std::string::npos);
+  EXPECT_NE(message("word", 0, 10).find("'fast' is not a finite number"), std::string::npos);
+  EXPECT_NE(message("word", 0, 10).find("'fast' is not a finite number"), std::string::npos);
+  p.Set("speed", "3");  // set again: read afresh
+  EXPECT_EQ(p.GetDouble("speed", 1, 0, 10), 3.0);
+}
+
 }  // namespace
 }  // namespace colony

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -134,6 +135,7 @@ class Params {
     std::string key;
     std::string value;
     mutable bool read = false;
+    mutable std::optional<double> number;  // the value as a finite number, once parsed
   };
   const Entry* Find(std::string_view key) const;
   void NoteDefault(std::string_view key, std::string text, Default::Kind kind) const;

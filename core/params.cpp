@@ -11,6 +11,7 @@ void Params::Set(std::string key, std::string value) {
   for (auto& e : entries_) {
     if (e.key == key) {
       e.value = std::move(value);
+      e.number.reset();
       return;
     }
   }
@@ -79,7 +80,12 @@ static double ParseDouble(const std::string& key, const std::string& text, doubl
 double Params::GetDouble(std::string_view key, double fallback, double min, double max) const {
   NoteDefault(key, NumberText(fallback), Default::kNumber);
   const Entry* e = Find(key);
-  return e ? ParseDouble(e->key, e->value, min, max) : fallback;
+  if (!e) return fallback;
+  // Every robot of a controller reads the same parameters: the text is
+  // parsed by the first, and the number checked against each caller's range.
+  if (!e->number) e->number = ParseDouble(e->key, e->value, min, max);
+  return *e->number >= min && *e->number <= max ? *e->number
+                                                : ParseDouble(e->key, e->value, min, max);
 }
 
 double Params::GetDouble(std::string_view key) const {
