@@ -375,13 +375,6 @@ TEST(core_test_device_blocks, ArrayBlocksGiveZeroedSeparateArrays) {
   }
 }
 
-// The whole 2 MB pages inside a vector's capacity: what AdviseHugePages acts on.
-std::pair<uintptr_t, uintptr_t> WholeHugePages(const std::vector<uint64_t>& v) {
-  constexpr uintptr_t kHuge = uintptr_t{2} << 20;
-  const uintptr_t at = reinterpret_cast<uintptr_t>(v.data());
-  return {(at + kHuge - 1) & ~(kHuge - 1), (at + v.capacity() * sizeof(uint64_t)) & ~(kHuge - 1)};
-}
-
 // Pages of [begin, end) resident now, without touching them.
 size_t ResidentPages(uintptr_t begin, uintptr_t end) {
   const size_t page = static_cast<size_t>(sysconf(_SC_PAGESIZE));
@@ -400,22 +393,24 @@ bool KernelPopulates() {
 }
 
 // A big swarm's arrays are mapped in by a background thread before the
-// loader fills them (core/huge_pages.h): the pages are there without the
-// caller touching them, and read as zeros.
+// loader fills them (core/huge_pages.h): the whole 2 MB pages of the range
+// are there without the caller touching them. (Fresh memory from mmap, so
+// that no allocator has filled any of it.)
 TEST(core_test_huge_pages, PrefaultMapsTheWholePagesBeforeTheyAreTouched) {
   if (!KernelPopulates()) GTEST_SKIP() << "this kernel has no MADV_POPULATE_WRITE (Linux < 5.14)";
-  std::vector<uint64_t> v;
-  v.reserve(size_t{8} << 20);  // 64 MB
-  const auto [begin, end] = WholeHugePages(v);
-  ASSERT_LT(begin, end);
-  const size_t page = static_cast<size_t>(sysconf(_SC_PAGESIZE));
-  const size_t pages = (end - begin) / page;
-  EXPECT_LT(ResidentPages(begin, end), pages / 4);  // fresh memory: mostly not mapped yet
-  AdviseHugePages(v, Prefault::kInBackground);
+  const size_t bytes = size_t{64} << 20;
+  void* memory = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  ASSERT_NE(memory, MAP_FAILED);
+  constexpr uintptr_t kHuge = uintptr_t{2} << 20;
+  const uintptr_t at = reinterpret_cast<uintptr_t>(memory);
+  const uintptr_t begin = (at + kHuge - 1) & ~(kHuge - 1), end = (at + bytes) & ~(kHuge - 1);
+  const size_t pages = (end - begin) / static_cast<size_t>(sysconf(_SC_PAGESIZE));
+  EXPECT_EQ(ResidentPages(begin, end), 0u);
+  AdviseHugePages(memory, bytes, Prefault::kInBackground);
   WaitForBackgroundPrefaults();
   EXPECT_EQ(ResidentPages(begin, end), pages);
-  const auto* words = reinterpret_cast<const uint64_t*>(begin);
-  for (size_t i = 0; i < (end - begin) / sizeof(uint64_t); i += 4096) ASSERT_EQ(words[i], 0u);
+  EXPECT_EQ(ResidentPages(at, begin), 0u);  // the part before the first whole page: left alone
+  munmap(memory, bytes);
 }
 
 // ... and populating never changes what the memory holds, even while the
