@@ -159,6 +159,31 @@ struct DeviceLabels {
   // The folder this run's files go to (null or "": none), for a controller
   // that reads something a loop function or an earlier tick put there.
   const std::string* run_folder = nullptr;
+
+  // The index of the device declared with label or registered name `name`.
+  std::optional<size_t> SensorIndex(std::string_view name) const {
+    return IndexOf(*sensor_labels, sensor_names, name);
+  }
+  std::optional<size_t> ActuatorIndex(std::string_view name) const {
+    return IndexOf(*actuator_labels, actuator_names, name);
+  }
+  // The registered name of device i.
+  const std::string& SensorName(size_t i) const {
+    return sensor_names ? (*sensor_names)[i] : (*sensor_labels)[i];
+  }
+  const std::string& ActuatorName(size_t i) const {
+    return actuator_names ? (*actuator_names)[i] : (*actuator_labels)[i];
+  }
+
+ private:
+  static std::optional<size_t> IndexOf(const std::vector<std::string>& labels,
+                                       const std::vector<std::string>* names,
+                                       std::string_view name) {
+    for (size_t i = 0; i < labels.size(); ++i) {
+      if (labels[i] == name || (names && (*names)[i] == name)) return i;
+    }
+    return std::nullopt;
+  }
 };
 
 // What the host hands a controller: its robot's id and the devices declared
@@ -267,13 +292,13 @@ class Controller {
   // std::logic_error when it is not declared or is not a T.
   template <class T>
   T& GetSensor(std::string_view label) const {
-    return Lookup<T>(label, *devices_.labels->sensor_labels, devices_.labels->sensor_names,
-                     devices_.sensors, "sensor", "<sensors>");
+    return Lookup<T>(label, devices_.labels->SensorIndex(label), devices_.sensors, "sensor",
+                     "<sensors>");
   }
   template <class T>
   T& GetActuator(std::string_view label) const {
-    return Lookup<T>(label, *devices_.labels->actuator_labels, devices_.labels->actuator_names,
-                     devices_.actuators, "actuator", "<actuators>");
+    return Lookup<T>(label, devices_.labels->ActuatorIndex(label), devices_.actuators, "actuator",
+                     "<actuators>");
   }
   // Every declared device, for hosts of controllers in other languages (Lua,
   // the ARGoS compatibility layer) that enumerate them.
@@ -294,17 +319,15 @@ class Controller {
 
  private:
   template <class T, class D>
-  static T& Lookup(std::string_view label, const std::vector<std::string>& labels,
-                   const std::vector<std::string>* names, D* const* items, const char* what,
-                   const char* section) {
-    for (size_t i = 0; i < labels.size(); ++i) {
-      if (labels[i] != label && !(names && (*names)[i] == label)) continue;
-      if (auto* typed = dynamic_cast<T*>(items[i])) return *typed;
-      throw std::logic_error(std::string(what) + " '" + std::string(label) +
-                             "' is not of the type the controller asked for");
+  static T& Lookup(std::string_view label, std::optional<size_t> index, D* const* items,
+                   const char* what, const char* section) {
+    if (!index) {
+      throw std::logic_error("the controller asked for " + std::string(what) + " '" +
+                             std::string(label) + "', which is not declared in its " + section);
     }
-    throw std::logic_error("the controller asked for " + std::string(what) + " '" +
-                           std::string(label) + "', which is not declared in its " + section);
+    if (auto* typed = dynamic_cast<T*>(items[*index])) return *typed;
+    throw std::logic_error(std::string(what) + " '" + std::string(label) +
+                           "' is not of the type the controller asked for");
   }
 
   DeviceTable devices_;

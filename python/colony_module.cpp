@@ -45,31 +45,14 @@ std::vector<uint32_t> RobotSlots(const colony::Space& space) {
   return slots;
 }
 
-// The registered name of device `i` of a controller (`names` null: the
-// labels are the names).
-const std::string& RegisteredName(const std::vector<std::string>& labels,
-                                  const std::vector<std::string>* names, size_t i) {
-  return names ? (*names)[i] : labels[i];
-}
-
-// The index of the device declared with label or registered name `name`, or
-// labels.size() when there is none.
-size_t DeviceIndexOf(const std::vector<std::string>& labels, const std::vector<std::string>* names,
-                     const std::string& name) {
-  size_t i = 0;
-  while (i < labels.size() && labels[i] != name && RegisteredName(labels, names, i) != name) ++i;
-  return i;
-}
-
 // The sensor of the robot in `slot` declared with label or registered name
 // `name` in its controller's <sensors>, or null.
 colony::Sensor* SensorOf(const colony::Simulation& sim, uint32_t slot, const std::string& name) {
   const colony::Controller* controller = sim.ControllerOf(sim.space().HandleOf(slot));
   if (!controller || !controller->devices().labels) return nullptr;
   const colony::DeviceTable& devices = controller->devices();
-  const auto& labels = *devices.labels->sensor_labels;
-  const size_t i = DeviceIndexOf(labels, devices.labels->sensor_names, name);
-  return i < labels.size() ? devices.sensors[i] : nullptr;
+  const auto i = devices.labels->SensorIndex(name);
+  return i ? devices.sensors[*i] : nullptr;
 }
 
 // The registered names of every sensor some robot's controller declares, in
@@ -82,7 +65,7 @@ std::vector<std::string> SensorNames(const colony::Simulation& sim) {
     if (!controller || !controller->devices().labels) continue;
     const colony::DeviceLabels& devices = *controller->devices().labels;
     for (size_t i = 0; i < devices.sensor_labels->size(); ++i) {
-      const std::string& name = RegisteredName(*devices.sensor_labels, devices.sensor_names, i);
+      const std::string& name = devices.SensorName(i);
       if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
     }
   }
@@ -99,9 +82,8 @@ colony::Actuator* ActuatorOf(const colony::Simulation& sim, uint32_t slot,
   const colony::Controller* controller = sim.ControllerOf(sim.space().HandleOf(slot));
   if (!controller || !controller->devices().labels) return nullptr;
   const colony::DeviceTable& devices = controller->devices();
-  const auto& labels = *devices.labels->actuator_labels;
-  const size_t i = DeviceIndexOf(labels, devices.labels->actuator_names, name);
-  return i < labels.size() ? devices.actuators[i] : nullptr;
+  const auto i = devices.labels->ActuatorIndex(name);
+  return i ? devices.actuators[*i] : nullptr;
 }
 
 bool IsExternal(const colony::Simulation& sim, uint32_t slot) {
@@ -117,7 +99,7 @@ std::vector<std::string> ActuatorNames(const colony::Simulation& sim) {
     if (!IsExternal(sim, slot)) continue;
     const colony::DeviceLabels& devices = *sim.ControllerOf(space.HandleOf(slot))->devices().labels;
     for (size_t i = 0; i < devices.actuator_labels->size(); ++i) {
-      const std::string& name = RegisteredName(*devices.actuator_labels, devices.actuator_names, i);
+      const std::string& name = devices.ActuatorName(i);
       if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
     }
   }

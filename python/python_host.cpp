@@ -156,14 +156,6 @@ std::string PythonError(py::error_already_set& e) {
 
 namespace {
 
-std::vector<DeviceName> Names(const std::vector<std::string>& labels,
-                              const std::vector<std::string>* names) {
-  std::vector<DeviceName> out;
-  for (size_t i = 0; i < labels.size(); ++i)
-    out.push_back({labels[i], names ? (*names)[i] : labels[i]});
-  return out;
-}
-
 // readings[label + suffix] (and [name + suffix] when the file used an alias).
 void Put(py::dict& readings, const DeviceName& d, const char* suffix, py::handle value) {
   readings[py::str(d.label + suffix)] = value;
@@ -173,11 +165,17 @@ void Put(py::dict& readings, const DeviceName& d, const char* suffix, py::handle
 }  // namespace
 
 std::vector<DeviceName> SensorNames(const DeviceTable& devices) {
-  return Names(*devices.labels->sensor_labels, devices.labels->sensor_names);
+  std::vector<DeviceName> out;
+  for (size_t i = 0; i < devices.labels->sensor_labels->size(); ++i)
+    out.push_back({(*devices.labels->sensor_labels)[i], devices.labels->SensorName(i)});
+  return out;
 }
 
 std::vector<DeviceName> ActuatorNames(const DeviceTable& devices) {
-  return Names(*devices.labels->actuator_labels, devices.labels->actuator_names);
+  std::vector<DeviceName> out;
+  for (size_t i = 0; i < devices.labels->actuator_labels->size(); ++i)
+    out.push_back({(*devices.labels->actuator_labels)[i], devices.labels->ActuatorName(i)});
+  return out;
 }
 
 void CheckArraySensors(const DeviceTable& devices) {

@@ -380,18 +380,12 @@ namespace {
 
 // The index of the device declared as `label`: by its element name, by the
 // Colony device it stands for, or by ARGoS's name of a Colony device.
-std::optional<size_t> FindDevice(const std::string& label, const std::vector<std::string>& labels,
-                                 const std::vector<std::string>* names, bool sensor) {
-  auto find = [&](const std::string& wanted) -> std::optional<size_t> {
-    for (size_t i = 0; i < labels.size(); ++i)
-      if (labels[i] == wanted || (names && (*names)[i] == wanted)) return i;
-    return std::nullopt;
-  };
-  if (auto i = find(label)) return i;
-  if (sensor) {
-    if (auto it = kColonySensorName.find(label); it != kColonySensorName.end())
-      return find(it->second);
-  }
+std::optional<size_t> FindDevice(const std::string& label, const colony::DeviceLabels& labels,
+                                 bool sensor) {
+  if (!sensor) return labels.ActuatorIndex(label);
+  if (auto i = labels.SensorIndex(label)) return i;
+  if (auto it = kColonySensorName.find(label); it != kColonySensorName.end())
+    return labels.SensorIndex(it->second);
   return std::nullopt;
 }
 
@@ -450,17 +444,12 @@ void ControllerHost::Keep(std::unique_ptr<CRandom::CRNG> rng) { rngs_.push_back(
 
 bool ControllerHost::HasDevice(const std::string& label, bool sensor) const {
   const auto& table = devices();
-  return sensor ? FindDevice(label, *table.labels->sensor_labels, table.labels->sensor_names, true)
-                      .has_value()
-                : FindDevice(label, *table.labels->actuator_labels, table.labels->actuator_names,
-                             false)
-                      .has_value();
+  return FindDevice(label, *table.labels, sensor).has_value();
 }
 
 CCI_Sensor* ControllerHost::FindSensor(const std::string& label, const std::type_info& wanted) {
   const auto& table = devices();
-  const auto index =
-      FindDevice(label, *table.labels->sensor_labels, table.labels->sensor_names, true);
+  const auto index = FindDevice(label, *table.labels, true);
   if (!index) {
     THROW_ARGOSEXCEPTION("Unknown sensor type " << label
                                                 << " requested in controller. Did you add it to "
@@ -529,8 +518,7 @@ CCI_Sensor* ControllerHost::FindSensor(const std::string& label, const std::type
 
 CCI_Actuator* ControllerHost::FindActuator(const std::string& label) {
   const auto& table = devices();
-  const auto index =
-      FindDevice(label, *table.labels->actuator_labels, table.labels->actuator_names, false);
+  const auto index = FindDevice(label, *table.labels, false);
   if (!index) {
     THROW_ARGOSEXCEPTION("Unknown actuator type " << label
                                                   << " requested in controller. Did you add it "
