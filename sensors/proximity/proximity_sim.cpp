@@ -59,6 +59,17 @@ struct ProximityInstance : ProximitySensor, InstanceBaseWithoutStream {
   const ProximityRing* ring = nullptr;
 };
 
+// A footprint some ray of a robot may hit: a box's rectangle (made once per
+// robot, not once per ray) or a cylinder's circle (centre in rect.center),
+// with the circle around it relative to the robot's axis.
+struct Target {
+  Rect rect;
+  bool box = false;
+  double circle_radius = 0;  // a cylinder's
+  Vec2 offset;               // centre - the robot's axis
+  double bound = 0;          // bounding radius, with slack
+};
+
 class ProximitySystem : public SensorSystem {
  public:
   void Configure(const ConfigNode& node) override {
@@ -97,10 +108,13 @@ class ProximitySystem : public SensorSystem {
     // This thread's lists, kept from tick to tick so that a warm step does not
     // allocate; taken once per chunk (a thread_local costs a lookup per use).
     static thread_local std::vector<uint32_t> scratch, scratch_ahead;
+    static thread_local std::vector<Target> scratch_targets;
     std::vector<uint32_t>* near_list = &scratch;
     std::vector<uint32_t>* ahead = &scratch_ahead;
+    std::vector<Target>& targets = scratch_targets;
     near_list->reserve(64);  // once per thread: enough for any crowd seen so far
     ahead->reserve(64);
+    targets.reserve(64);
     // A robot's neighbours are wherever they were placed in the space's
     // arrays, and with a swarm larger than the caches so is its own place in
     // the grid: what the robots a few ahead will read is asked for early (the
@@ -164,19 +178,30 @@ class ProximitySystem : public SensorSystem {
       // distance t <= range from the body's surface lies m.radius + t from the
       // axis, so a footprint whose bounding circle is farther away cannot give
       // a reading. (The small slack only guards against rounding.)
-      size_t kept = 0;
+      targets.clear();
       for (uint32_t o : near) {
         if (o == self) continue;
-        const Vec3& op = space.pose(o).position;
+        const Pose& op = space.pose(o);
         const Geometry& og = space.geometry(o);
-        if (!(z >= op.z() && z < op.z() + og.height())) continue;
-        const double limit = reach + og.BoundingRadius() + 1e-6;
-        if ((op.head<2>() - c).squaredNorm() >= limit * limit) continue;
-        near[kept++] = o;
+        if (og.shape == ShapeKind::kNone) continue;  // nothing a ray can hit
+        if (!(z >= op.position.z() && z < op.position.z() + og.height())) continue;
+        const double bound = og.BoundingRadius() + 1e-6;
+        const double limit = reach + bound;
+        const Vec2 offset = op.position.head<2>() - c;
+        if (offset.squaredNorm() >= limit * limit) continue;
+        Target& t = targets.emplace_back();
+        t.offset = offset;
+        t.bound = bound;
+        t.box = og.shape == ShapeKind::kBox;
+        if (t.box) {
+          t.rect = RectOf(op, og);
+        } else {
+          t.rect.center = op.position.head<2>();
+          t.circle_radius = og.radius;
+        }
       }
-      near.resize(kept);
       const std::span<float> values = p.values();
-      if (near.empty()) {
+      if (targets.empty()) {
         // Nothing in range: every ray misses.
         for (float& v : values) v = static_cast<float>(Noisy(0.0, k));
         if (p.watches) CheckWatches(p);
@@ -190,8 +215,15 @@ class ProximitySystem : public SensorSystem {
         const Vec2 dir(cy * l.x() - sy * l.y(), sy * l.x() + cy * l.y());
         const Vec2 origin = c + m.radius * dir;
         double best = kNoHit;
-        for (uint32_t o : near) {
-          best = std::min(best, RayFootprint(origin, dir, space.pose(o), space.geometry(o)));
+        for (const Target& t : targets) {
+          // The ray lies on a line through the robot's axis: a footprint
+          // whose bounding circle stays off that line, or wholly behind the
+          // ray's origin, is not hit (the slack in `bound` is far above
+          // rounding, so every hit the ray test finds passes).
+          const double across = dir.x() * t.offset.y() - dir.y() * t.offset.x();
+          if (std::abs(across) > t.bound || dir.dot(t.offset) + t.bound < m.radius) continue;
+          best = std::min(best, t.box ? RayRect(origin, dir, t.rect)
+                                      : RayCircle(origin, dir, t.rect.center, t.circle_radius));
         }
         const double value = best <= range ? std::min(1.0, 0.01 / std::max(best, 1e-6)) : 0.0;
         values[i] = static_cast<float>(Noisy(value, k));
