@@ -3,10 +3,12 @@
 #include "sensors/proximity/proximity.h"
 
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "actuators/differential_steering/differential_steering.h"
+#include "core/geometry2d.h"
 #include "core/registry.h"
 #include "tests/test_util.h"
 
@@ -257,6 +259,65 @@ TEST(Proximity, WallsAreSeen) {
       "<walls thickness=\"0.1\" height=\"0.5\"/>" + Robot("r", "1.76,0,0"), Controllers()));
   sim->Step();
   EXPECT_NEAR(Readings(*sim, "r")[0].value, 0.01 / RayToPlane(DegToRad(7.5), 1.9 - 1.76), 1e-4);
+}
+
+// The sensor casts a ray only at the footprints that may lie across it
+// (proximity_sim.cpp); casting every ray at every solid thing must give the
+// same readings. Robots among boxes turned every way, cylinders and other
+// robots, packed close: each reading against the nearest hit of its ray
+// (core/geometry2d.h's RayFootprint) over everything in the space.
+TEST(Proximity, ReadingsAreThoseOfCastingEveryRayAtEverything) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int hits = 0;
+  for (int scene = 0; scene < 20; ++scene) {
+    const double yaw = 360 * unit(rng);
+    std::string body = Robot("r", "0,0,0", yaw);
+    for (int k = 0; k < 12; ++k) {
+      const double bearing = 2 * M_PI * unit(rng);
+      const double kind = unit(rng);
+      const std::string id = "o" + std::to_string(k);
+      // Bounding radius at most 0.1; the centre 0.2 to 0.3 m away.
+      const double d = 0.2 + 0.1 * unit(rng);
+      const std::string at = std::to_string(d * std::cos(bearing)) + "," +
+                             std::to_string(d * std::sin(bearing)) + ",0";
+      if (kind < 0.5) {
+        const double w = 0.02 + 0.1 * unit(rng), l = 0.02 + 0.1 * unit(rng);
+        body += "<box id=\"" + id + "\" size=\"" + std::to_string(w) + "," + std::to_string(l) +
+                ",0.2\"><body position=\"" + at + "\" orientation=\"" +
+                std::to_string(360 * unit(rng)) + ",0,0\"/></box>";
+      } else {
+        body += "<cylinder id=\"" + id + "\" radius=\"" + std::to_string(0.01 + 0.09 * unit(rng)) +
+                "\" height=\"0.2\"><body position=\"" + at + "\"/></cylinder>";
+      }
+    }
+    auto sim = LoadXml(Experiment(body, Controllers()));
+    sim->Step();
+    const Space& space = sim->space();
+    const EntityHandle robot = space.Find("r");
+    const Pose& pose = space.pose(robot.index);
+    const RingMount& ring = *sim->MountsOf(robot).Ring("proximity");
+    const double z = pose.position.z() + ring.elevation;
+    const auto& readings = Readings(*sim, "r");
+    ASSERT_EQ(readings.size(), 24u);
+    for (int i = 0; i < 24; ++i) {
+      const double a = YawOf(pose.orientation) + ring.AngleOf(i);
+      const Vec2 dir(std::cos(a), std::sin(a));
+      const Vec2 origin = pose.position.head<2>() + ring.radius * dir;
+      double best = kNoHit;
+      for (uint32_t s = 0; s < space.slots(); ++s) {
+        if (s == robot.index || !space.alive(s)) continue;
+        const Pose& p = space.pose(s);
+        const Geometry& g = space.geometry(s);
+        if (!(z >= p.position.z() && z < p.position.z() + g.height())) continue;
+        best = std::min(best, RayFootprint(origin, dir, p, g));
+      }
+      const double expected = best <= ring.range ? std::min(1.0, 0.01 / std::max(best, 1e-6)) : 0.0;
+      EXPECT_NEAR(readings[i].value, expected, 1e-5) << "scene " << scene << ", sensor " << i;
+      hits += expected > 0;
+    }
+  }
+  EXPECT_GT(hits, 80);  // about a fifth of the rays hit something
 }
 
 std::vector<float> Values(Simulation& sim, const std::string& robot) {
