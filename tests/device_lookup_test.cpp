@@ -9,6 +9,17 @@
 namespace colony {
 namespace {
 
+// The message of the std::logic_error `lookup` throws ("" when none).
+template <class F>
+std::string ErrorOf(F lookup) {
+  try {
+    lookup();
+  } catch (const std::logic_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
 class LookupProbe : public Controller {
  public:
   void ControlStep() override {}
@@ -37,27 +48,12 @@ TEST(DeviceLookup, ByLabelOrRegisteredNameAndNamedWhenMissingOrOfAnotherType) {
   EXPECT_EQ(&c.GetSensor<ProximitySensor>("proximity"), c.devices().sensors[0]);
   EXPECT_EQ(&c.GetActuator<DifferentialSteering>("differential_steering"),
             c.devices().actuators[0]);
-  try {
-    c.GetSensor<LightSensor>("light");
-    ADD_FAILURE() << "an undeclared sensor was found";
-  } catch (const std::logic_error& e) {
-    EXPECT_TRUE(testing::Mentions(e.what(), {"sensor 'light'", "not declared", "<sensors>"}))
-        << e.what();
-  }
-  try {
-    c.GetSensor<LightSensor>("footbot_proximity");
-    ADD_FAILURE() << "a proximity sensor was taken for a light sensor";
-  } catch (const std::logic_error& e) {
-    EXPECT_TRUE(testing::Mentions(e.what(), {"sensor 'footbot_proximity'", "not of the type"}))
-        << e.what();
-  }
-  try {
-    c.GetActuator<DifferentialSteering>("leds");
-    ADD_FAILURE() << "an undeclared actuator was found";
-  } catch (const std::logic_error& e) {
-    EXPECT_TRUE(testing::Mentions(e.what(), {"actuator 'leds'", "not declared", "<actuators>"}))
-        << e.what();
-  }
+  EXPECT_TRUE(testing::Mentions(ErrorOf([&] { c.GetSensor<LightSensor>("light"); }),
+                                {"sensor 'light'", "not declared", "<sensors>"}));
+  EXPECT_TRUE(testing::Mentions(ErrorOf([&] { c.GetSensor<LightSensor>("footbot_proximity"); }),
+                                {"sensor 'footbot_proximity'", "not of the type"}));
+  EXPECT_TRUE(testing::Mentions(ErrorOf([&] { c.GetActuator<DifferentialSteering>("leds"); }),
+                                {"actuator 'leds'", "not declared", "<actuators>"}));
 }
 
 }  // namespace
