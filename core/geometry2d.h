@@ -72,11 +72,37 @@ inline Rect RectOf(const Pose& pose, const Geometry& g) {
   return Rect{pose.position.head<2>(), 0.5 * g.size.head<2>(), std::cos(yaw), std::sin(yaw)};
 }
 
+// The footprint of an entity made ready for rays: a box's rectangle (its
+// yaw's atan2, cosine and sine) is made once, for a sensor that casts many
+// rays at it.
+struct Footprint {
+  ShapeKind shape = ShapeKind::kNone;
+  Rect rect;          // a box's; for a cylinder only rect.center
+  double radius = 0;  // a cylinder's
+
+  static Footprint Of(const Pose& pose, const Geometry& g) {
+    Footprint f;
+    f.shape = g.shape;
+    if (g.shape == ShapeKind::kBox) {
+      f.rect = RectOf(pose, g);
+    } else {
+      f.rect.center = pose.position.head<2>();
+      f.radius = g.radius;
+    }
+    return f;
+  }
+  // Distance along the ray o + t d (d of unit length): 0 when o is inside,
+  // kNoHit when missed.
+  double Ray(const Vec2& o, const Vec2& d) const {
+    if (shape == ShapeKind::kBox) return RayRect(o, d, rect);
+    if (shape == ShapeKind::kCylinder) return RayCircle(o, d, rect.center, radius);
+    return kNoHit;
+  }
+};
+
 // Distance along a horizontal ray to the footprint of an entity.
 inline double RayFootprint(const Vec2& o, const Vec2& d, const Pose& pose, const Geometry& g) {
-  if (g.shape == ShapeKind::kBox) return RayRect(o, d, RectOf(pose, g));
-  if (g.shape == ShapeKind::kCylinder) return RayCircle(o, d, pose.position.head<2>(), g.radius);
-  return kNoHit;
+  return Footprint::Of(pose, g).Ray(o, d);
 }
 
 // Whether a circle at p overlaps the footprint of an entity.

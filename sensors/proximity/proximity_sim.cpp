@@ -59,15 +59,12 @@ struct ProximityInstance : ProximitySensor, InstanceBaseWithoutStream {
   const ProximityRing* ring = nullptr;
 };
 
-// A footprint some ray of a robot may hit: a box's rectangle (made once per
-// robot, not once per ray) or a cylinder's circle (centre in rect.center),
-// with the circle around it relative to the robot's axis.
+// A footprint some ray of a robot may hit, with the circle around it
+// relative to the robot's axis.
 struct Target {
-  Rect rect;
-  bool box = false;
-  double circle_radius = 0;  // a cylinder's
-  Vec2 offset;               // centre - the robot's axis
-  double bound = 0;          // bounding radius, with slack
+  Footprint footprint;
+  Vec2 offset;       // centre - the robot's axis
+  double bound = 0;  // bounding radius, with slack
 };
 
 class ProximitySystem : public SensorSystem {
@@ -189,16 +186,7 @@ class ProximitySystem : public SensorSystem {
         const double limit = reach + bound;
         const Vec2 offset = op.position.head<2>() - c;
         if (offset.squaredNorm() >= limit * limit) continue;
-        Target& t = targets.emplace_back();
-        t.offset = offset;
-        t.bound = bound;
-        t.box = og.shape == ShapeKind::kBox;
-        if (t.box) {
-          t.rect = RectOf(op, og);
-        } else {
-          t.rect.center = op.position.head<2>();
-          t.circle_radius = og.radius;
-        }
+        targets.push_back({Footprint::Of(op, og), offset, bound});
       }
       const std::span<float> values = p.values();
       if (targets.empty()) {
@@ -222,8 +210,7 @@ class ProximitySystem : public SensorSystem {
           // rounding, so every hit the ray test finds passes).
           const double across = dir.x() * t.offset.y() - dir.y() * t.offset.x();
           if (std::abs(across) > t.bound || dir.dot(t.offset) + t.bound < m.radius) continue;
-          best = std::min(best, t.box ? RayRect(origin, dir, t.rect)
-                                      : RayCircle(origin, dir, t.rect.center, t.circle_radius));
+          best = std::min(best, t.footprint.Ray(origin, dir));
         }
         const double value = best <= range ? std::min(1.0, 0.01 / std::max(best, 1e-6)) : 0.0;
         values[i] = static_cast<float>(Noisy(value, k));

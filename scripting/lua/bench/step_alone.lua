@@ -37,8 +37,8 @@ else
   local chunk = assert(load("local _ENV = ...; " .. source, "=" .. script))
   run_as = function(env) chunk(env) end
 end
-local robot_math = setmetatable({atan = math.atan2 or math.atan}, {__index = math})
-if not math.atan2 then robot_math = math end
+local robot_math = math
+if setfenv then robot_math = setmetatable({atan = math.atan2}, {__index = math}) end
 local function set_velocity(left, right) end
 
 local steps = {}
