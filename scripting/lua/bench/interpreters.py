@@ -5,14 +5,17 @@ Times experiments/lua/diffusion.lua's step() alone (scripting/lua/bench/step_alo
 on each interpreter found (lua5.3, lua5.4, luajit, and luajit -joff: its interpreter without the
 JIT) at 10, 1,000 and 10,000 robots, with two cut-down copies of the script (an empty step(); the
 step without its loop over the readings), and, with --bench, the whole robot-step of the C++ and
-Lua diffusion scenes at 10,000 robots in the same rounds. Rounds are interleaved; prints markdown
-tables of the medians (the rounds' values in brackets). Run from the project's root:
+Lua diffusion scenes at 10,000 robots in the same rounds. Rounds are interleaved; writes markdown
+tables of the medians (the rounds' values in brackets) between <!-- lua interpreters: begin --> and
+<!-- lua interpreters: end --> in scripting/lua/BENCHMARK-NOTES.md, and prints them. Run from the
+project's root:
 
   scripting/lua/bench/interpreters.py --rounds 3 --bench build/bin/colony_bench
 
 Interpreters are not build dependencies: `apt-get install lua5.3 lua5.4 luajit`.
 """
 import argparse
+import datetime
 import os
 import re
 import shutil
@@ -21,6 +24,11 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..",
+                                "tools"))
+import docblock  # noqa: E402  (tools/docblock.py)
+
+NOTES = "scripting/lua/BENCHMARK-NOTES.md"
 SCRIPT = "experiments/lua/diffusion.lua"
 HARNESS = "scripting/lua/bench/step_alone.lua"
 INTERPRETERS = [("Lua 5.3", ["lua5.3"]), ("Lua 5.4", ["lua5.4"]), ("LuaJIT", ["luajit"]),
@@ -81,6 +89,7 @@ def main():
     found = [(name, cmd) for name, cmd in INTERPRETERS if shutil.which(cmd[0])]
     if not found:
         sys.exit("no Lua interpreter found (apt-get install lua5.3 lua5.4 luajit)")
+    load = os.getloadavg()[0]
     folder = tempfile.mkdtemp(prefix="lua-interpreters-")
     scripts = variants(folder)
     results = {}
@@ -100,29 +109,36 @@ def main():
                 results.setdefault(("bench", label), []).append(robot_step(args.bench, scene))
     shutil.rmtree(folder)
 
-    print("The step alone (ns per step), experiments/lua/diffusion.lua:\n")
-    print("| interpreter | " + " | ".join(f"{n:,} robots" for n in SIZES) + " |")
-    print("|---|" + "---:|" * len(SIZES))
+    out = []
+    out.append("The step alone (ns per step), experiments/lua/diffusion.lua:\n")
+    out.append("| interpreter | " + " | ".join(f"{n:,} robots" for n in SIZES) + " |")
+    out.append("|---|" + "---:|" * len(SIZES))
     for name, _ in found:
-        print(f"| {name} | " +
-              " | ".join(cell(results[("diffusion.lua", name, n)]) for n in SIZES) + " |")
-    print("\nCut-down copies of the script, 10 robots (ns per step):\n")
-    print("| interpreter | empty step() | step() without the readings loop | whole step() |")
-    print("|---|---:|---:|---:|")
+        out.append(f"| {name} | " +
+                   " | ".join(cell(results[("diffusion.lua", name, n)]) for n in SIZES) + " |")
+    out.append("\nCut-down copies of the script, 10 robots (ns per step):\n")
+    out.append("| interpreter | empty step() | step() without the readings loop | whole step() |")
+    out.append("|---|---:|---:|---:|")
     for name, _ in found:
-        print(f"| {name} | {cell(results[('empty step()', name, 10)])} | "
-              f"{cell(results[('step() without the readings loop', name, 10)])} | "
-              f"{cell(results[('diffusion.lua', name, 10)])} |")
+        out.append(f"| {name} | {cell(results[('empty step()', name, 10)])} | "
+                   f"{cell(results[('step() without the readings loop', name, 10)])} | "
+                   f"{cell(results[('diffusion.lua', name, 10)])} |")
     if args.bench:
-        print("\nThe whole robot-step in Colony, same rounds (CPU ns per robot-step, "
-              "colony_bench --threads 2 --repeat 1):\n")
-        print("| scene | CPU ns per robot-step |")
-        print("|---|---:|")
+        out.append("\nThe whole robot-step in Colony, same rounds (CPU ns per robot-step, "
+                   "colony_bench --threads 2 --repeat 1):\n")
+        out.append("| scene | CPU ns per robot-step |")
+        out.append("|---|---:|")
         for label in scenes:
-            print(f"| {label} | {cell(results[('bench', label)])} |")
-    print(f"\n{args.rounds} interleaved rounds, {args.steps:,} steps per timing; written by "
-          f"`scripting/lua/bench/interpreters.py --rounds {args.rounds}"
-          f"{' --bench ' + args.bench if args.bench else ''}`.")
+            out.append(f"| {label} | {cell(results[('bench', label)])} |")
+    command = " ".join(["scripting/lua/bench/interpreters.py", f"--rounds {args.rounds}"] +
+                       ([f"--steps {args.steps}"] if args.steps != 2_000_000 else []) +
+                       ([f"--bench {args.bench}"] if args.bench else []))
+    out.append(f"\n{args.rounds} interleaved rounds, {args.steps:,} steps per timing, measured "
+               f"{datetime.date.today().isoformat()} with a load average of {load:.1f} before the "
+               f"runs; written by `{command}`.\n")
+    text = "\n".join(out)
+    print(text)
+    docblock.replace_block(NOTES, "lua interpreters", [""] + text.split("\n"))
 
 
 if __name__ == "__main__":
