@@ -1,45 +1,73 @@
 #include "core/thread_pool.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "core/crash_report.h"
 
 namespace colony {
 
-ThreadPool::ThreadPool(int threads) : threads_(std::max(threads, 0)) {
+ThreadPool::ThreadPool(int threads)
+    : threads_(std::max(threads, 0)),
+      spin_(static_cast<unsigned>(threads_) <= std::thread::hardware_concurrency()) {
   for (int i = 1; i < threads_; ++i) workers_.emplace_back([this] { WorkerLoop(); });
 }
 
 ThreadPool::~ThreadPool() {
   {
     std::lock_guard lock(mutex_);
-    stop_ = true;
+    stop_.store(true, std::memory_order_relaxed);
   }
   wake_.notify_all();
   for (auto& w : workers_) w.join();
 }
 
-// Takes chunks until none is left; the mutex is held on entry and exit.
 namespace {
+// Waits up to kSpin for done() to become true, without the mutex and without
+// sleeping; returns whether it did. A tick is a row of short ParallelFor jobs
+// with some serial work between them. A worker put to sleep on the condition
+// variable between two of them took 36 us on average to start on the next
+// (diffusion, 10,000 robots, two threads: 109 ms of a 1.45 s run, while the
+// caller worked alone), and the caller slept as long waiting for the last
+// chunk. Spinning 400 us covers nearly every gap of such a tick (the workers
+// then start within 1 us). A spin costs at most that much of a core per
+// wait, and only when the pool has no more threads than the machine.
+constexpr auto kSpin = std::chrono::microseconds(400);
+template <class Done>
+bool SpinUntil(Done&& done) {
+  if (done()) return true;
+  const auto until = std::chrono::steady_clock::now() + kSpin;
+  while (true) {
+    for (int i = 0; i < 64; ++i) {
+#if defined(__x86_64__) || defined(__i386__)
+      __builtin_ia32_pause();
+#endif
+      if (done()) return true;
+    }
+    if (std::chrono::steady_clock::now() >= until) return false;
+  }
+}
+
 // Set while a thread runs a chunk: a ParallelFor called from inside one
 // (an engine stepping in parallel with other engines) runs inline.
 thread_local bool t_in_job = false;
 }  // namespace
 
+// Takes chunks until none is left; the mutex is held on entry and exit.
 void ThreadPool::RunChunks() {
   std::unique_lock lock(mutex_, std::adopt_lock);
   while (next_ < n_) {
     const size_t begin = next_;
     const size_t end = std::min(n_, begin + chunk_);
     next_ = end;
-    ++pending_;
+    pending_.fetch_add(1, std::memory_order_relaxed);
     const auto* job = job_;
     lock.unlock();
     t_in_job = true;
     (*job)(begin, end);
     t_in_job = false;
     lock.lock();
-    if (--pending_ == 0 && next_ >= n_) done_.notify_all();
+    if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1 && next_ >= n_) done_.notify_all();
   }
   lock.release();
 }
@@ -47,19 +75,28 @@ void ThreadPool::RunChunks() {
 void ThreadPool::WorkerLoop() {
   UseAlternateSignalStack();
   uint64_t seen = 0;
-  mutex_.lock();
   while (true) {
+    if (spin_) {
+      SpinUntil([&] {
+        return generation_.load(std::memory_order_acquire) != seen ||
+               stop_.load(std::memory_order_relaxed);
+      });
+    }
     {
-      std::unique_lock lock(mutex_, std::adopt_lock);
-      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [&] {
+        return stop_.load(std::memory_order_relaxed) ||
+               generation_.load(std::memory_order_relaxed) != seen;
+      });
       lock.release();
     }
-    if (stop_) {
+    if (stop_.load(std::memory_order_relaxed)) {
       mutex_.unlock();
       return;
     }
-    seen = generation_;
+    seen = generation_.load(std::memory_order_relaxed);
     RunChunks();
+    mutex_.unlock();
   }
 }
 
@@ -83,13 +120,20 @@ void ThreadPool::ParallelFor(size_t n, size_t min_chunk, ChunkFn fn) {
   n_ = n;
   chunk_ = chunk;
   next_ = 0;
-  pending_ = 0;
-  ++generation_;
+  pending_.store(0, std::memory_order_relaxed);
+  generation_.fetch_add(1, std::memory_order_release);
   wake_.notify_all();
   lock.release();
   RunChunks();
+  // Every chunk is taken (RunChunks returns when none is left): wait for the
+  // ones other threads are still running.
+  if (spin_ && pending_.load(std::memory_order_acquire) != 0) {
+    mutex_.unlock();
+    SpinUntil([&] { return pending_.load(std::memory_order_acquire) == 0; });
+    mutex_.lock();
+  }
   lock = std::unique_lock(mutex_, std::adopt_lock);
-  done_.wait(lock, [&] { return next_ >= n_ && pending_ == 0; });
+  done_.wait(lock, [&] { return pending_.load(std::memory_order_relaxed) == 0; });
   job_ = nullptr;
   n_ = 0;
 }

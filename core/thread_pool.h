@@ -3,6 +3,7 @@
 // depend on the number of threads or on scheduling.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <functional>
@@ -55,14 +56,17 @@ class ThreadPool {
   void RunChunks();
 
   int threads_;
+  bool spin_;  // wait by spinning briefly before sleeping (not when oversubscribed)
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable done_;
   const ChunkFn* job_ = nullptr;
-  size_t n_ = 0, chunk_ = 0, next_ = 0, pending_ = 0;
-  uint64_t generation_ = 0;
-  bool stop_ = false;
+  size_t n_ = 0, chunk_ = 0, next_ = 0;
+  // Changed under the mutex; read without it by threads spinning for them.
+  std::atomic<size_t> pending_ = 0;  // chunks being run
+  std::atomic<uint64_t> generation_ = 0;
+  std::atomic<bool> stop_ = false;
 };
 
 }  // namespace colony

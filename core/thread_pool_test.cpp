@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -89,6 +90,29 @@ TEST(core_test_thread_pool, ManySmallJobsInARow) {
     });
     totals[job] = sum;
     ASSERT_EQ(totals[job], static_cast<int>(n * (n + 1) / 2)) << "job " << job;
+  }
+}
+
+TEST(core_test_thread_pool, JobsAfterIdlePauses) {
+  // Workers wait for the next job spinning for a moment, then asleep: jobs
+  // that come right away, after a short pause and after a long one (longer
+  // than the spin) all run every index once.
+  for (int threads : {2, 4}) {
+    ThreadPool pool(threads);
+    for (int job = 0; job < 12; ++job) {
+      std::this_thread::sleep_for(std::chrono::microseconds(job % 3 == 0   ? 0
+                                                            : job % 3 == 1 ? 50
+                                                                           : 2000));
+      std::vector<std::atomic<int>> counts(257);
+      pool.ParallelFor(counts.size(), 1, [&](size_t begin, size_t end) {
+        if (begin == 0) std::this_thread::sleep_for(std::chrono::microseconds(job % 2 ? 1000 : 0));
+        for (size_t i = begin; i < end; ++i) ++counts[i];
+      });
+      for (size_t i = 0; i < counts.size(); ++i) {
+        ASSERT_EQ(counts[i].load(), 1)
+            << "index " << i << ", job " << job << ", threads " << threads;
+      }
+    }
   }
 }
 
