@@ -89,6 +89,7 @@ EntityHandle Simulation::Instantiate(const EntityDesc& desc, uint16_t type,
     for (auto& c : controller_configs_) {
       if (c->id == desc.controller) robot.config = c.get();
     }
+    one_config_ = one_config_ && robot.config == robots_.front().config;
     AttachController(robot, line);
     ++robot_count_;
   }
@@ -421,12 +422,8 @@ void Simulation::Act() {
 // every robot runs the same controller configuration, so each of its sensor
 // systems holds one instance per robot, attached in the same order.
 bool Simulation::SensorsAlignWithRobots() const {
-  if (robots_.empty()) return false;
-  const ControllerConfig* config = robots_.front().config;
-  for (const Robot& r : robots_) {
-    if (r.config != config) return false;
-  }
-  for (const SensorSystem* s : config->sensors) {
+  if (robots_.empty() || !one_config_) return false;
+  for (const SensorSystem* s : robots_.front().config->sensors) {
     if (s->size() != robots_.size()) return false;
   }
   return true;

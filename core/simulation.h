@@ -454,6 +454,10 @@ class Simulation {
   std::vector<std::unique_ptr<ActuatorSystem>> actuator_systems_;
   std::vector<std::unique_ptr<ControllerConfig>> controller_configs_;
   std::deque<Robot> robots_;  // stable addresses: controllers point at their tables
+  // Whether every robot runs the configuration of the first (kept as robots
+  // are added: a robot's configuration never changes, and reading every
+  // robot for it each tick was a serial pass over them).
+  bool one_config_ = true;
   // Robots' device tables (the pointers to each robot's sensor and actuator
   // instances), carved from shared blocks: a heap array per robot and table
   // cost 32 bytes each, for one or two pointers.

@@ -154,6 +154,7 @@ std::string Simulation::TearDown() {
   actuator_tables_ = {};
   sensor_tables_ = {};
   robots_.clear();
+  one_config_ = true;
   controller_configs_.clear();
   actuator_systems_.clear();
   sensor_systems_.clear();
