@@ -191,7 +191,11 @@ class ProximitySystem : public SensorSystem {
       const std::span<float> values = p.values();
       if (targets.empty()) {
         // Nothing in range: every ray misses.
-        for (float& v : values) v = static_cast<float>(Noisy(0.0, k));
+        if (noise_.enabled()) {
+          for (float& v : values) v = static_cast<float>(Noisy(0.0, k));
+        } else {
+          std::fill(values.begin(), values.end(), 0.0f);
+        }
         if (p.watches) CheckWatches(p);
         continue;
       }
