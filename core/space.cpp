@@ -288,12 +288,15 @@ void Space::Gather(double x0, double y0, double x1, double y1, std::vector<uint3
   const double m = max_movable_radius_;
   const int cx0 = CellX(x0 - m), cx1 = CellX(x1 + m);
   const int cy0 = CellY(y0 - m), cy1 = CellY(y1 + m);
+  // A row's cells are one run of movable_items_: copied whole, with the size
+  // grown once per row (a push_back per item reloads the vector's pointers,
+  // which `out` could alias, at every item).
   for (int cy = cy0; cy <= cy1; ++cy) {
     const size_t row = static_cast<size_t>(cy) * nx_;
+    const uint32_t begin = cell_start_[row + cx0].movable;
     const uint32_t end = cell_start_[row + cx1 + 1].movable;
-    for (uint32_t k = cell_start_[row + cx0].movable; k < end; ++k) {
-      out.push_back(movable_items_[k]);
-    }
+    if (begin < end)
+      out.insert(out.end(), movable_items_.data() + begin, movable_items_.data() + end);
   }
   // Non-movable ones may sit in several cells: keep each once.
   const size_t first_static = out.size();
