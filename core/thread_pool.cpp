@@ -95,6 +95,9 @@ void ThreadPool::WorkerLoop() {
       return;
     }
     seen = generation_.load(std::memory_order_relaxed);
+    ++waits_.worker_starts;
+    waits_.worker_start_s +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - job_start_).count();
     RunChunks();
     mutex_.unlock();
   }
@@ -120,6 +123,8 @@ void ThreadPool::ParallelFor(size_t n, size_t min_chunk, ChunkFn fn) {
   n_ = n;
   chunk_ = chunk;
   next_ = 0;
+  ++waits_.jobs;
+  job_start_ = std::chrono::steady_clock::now();
   pending_.store(0, std::memory_order_relaxed);
   generation_.fetch_add(1, std::memory_order_release);
   wake_.notify_all();
@@ -127,6 +132,7 @@ void ThreadPool::ParallelFor(size_t n, size_t min_chunk, ChunkFn fn) {
   RunChunks();
   // Every chunk is taken (RunChunks returns when none is left): wait for the
   // ones other threads are still running.
+  const auto wait_start = std::chrono::steady_clock::now();
   if (spin_ && pending_.load(std::memory_order_acquire) != 0) {
     mutex_.unlock();
     SpinUntil([&] { return pending_.load(std::memory_order_acquire) == 0; });
@@ -134,8 +140,20 @@ void ThreadPool::ParallelFor(size_t n, size_t min_chunk, ChunkFn fn) {
   }
   lock = std::unique_lock(mutex_, std::adopt_lock);
   done_.wait(lock, [&] { return pending_.load(std::memory_order_relaxed) == 0; });
+  waits_.caller_wait_s +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wait_start).count();
   job_ = nullptr;
   n_ = 0;
+}
+
+ThreadPool::Waits ThreadPool::waits() {
+  std::lock_guard lock(mutex_);
+  return waits_;
+}
+
+void ThreadPool::ResetWaits() {
+  std::lock_guard lock(mutex_);
+  waits_ = {};
 }
 
 }  // namespace colony

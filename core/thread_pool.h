@@ -4,6 +4,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <functional>
@@ -51,6 +52,18 @@ class ThreadPool {
   // Called from inside a chunk, it runs everything inline.
   void ParallelFor(size_t n, size_t min_chunk, ChunkFn fn);
 
+  // Time the threads spent waiting on each other in the jobs shared with
+  // workers (ParallelFor calls that did not run inline), since construction
+  // or the last ResetWaits. Call from the thread that calls ParallelFor.
+  struct Waits {
+    uint64_t jobs = 0;
+    uint64_t worker_starts = 0;  // a worker taking up a job
+    double worker_start_s = 0;   // summed: from a job's start to a worker taking it up
+    double caller_wait_s = 0;    // the caller waiting for the last chunks other threads ran
+  };
+  Waits waits();
+  void ResetWaits();
+
  private:
   void WorkerLoop();
   void RunChunks();
@@ -67,6 +80,9 @@ class ThreadPool {
   std::atomic<size_t> pending_ = 0;  // chunks being run
   std::atomic<uint64_t> generation_ = 0;
   std::atomic<bool> stop_ = false;
+  // Waits, under the mutex.
+  std::chrono::steady_clock::time_point job_start_;
+  Waits waits_;
 };
 
 }  // namespace colony

@@ -116,6 +116,32 @@ TEST(core_test_thread_pool, JobsAfterIdlePauses) {
   }
 }
 
+TEST(core_test_thread_pool, WaitsCountTheJobsSharedWithWorkers) {
+  ThreadPool alone(1);
+  alone.ParallelFor(1000, 1, [](size_t, size_t) {});
+  EXPECT_EQ(alone.waits().jobs, 0u) << "one thread: every job runs inline";
+
+  ThreadPool pool(2);
+  std::atomic<int> sum = 0;
+  for (int job = 0; job < 5; ++job) {
+    pool.ParallelFor(1000, 1, [&](size_t begin, size_t end) {
+      std::this_thread::sleep_for(std::chrono::microseconds(20));
+      sum += static_cast<int>(end - begin);
+    });
+  }
+  pool.ParallelFor(3, 8, [&](size_t begin, size_t end) { sum += static_cast<int>(end - begin); });
+  EXPECT_EQ(sum.load(), 5003);
+  const ThreadPool::Waits waits = pool.waits();
+  EXPECT_EQ(waits.jobs, 5u) << "the job of 3 items, below min_chunk, ran inline";
+  EXPECT_GE(waits.worker_starts, 1u);
+  EXPECT_LE(waits.worker_starts, 5u);
+  EXPECT_GE(waits.worker_start_s, 0.0);
+  EXPECT_GE(waits.caller_wait_s, 0.0);
+  pool.ResetWaits();
+  EXPECT_EQ(pool.waits().jobs, 0u);
+  EXPECT_EQ(pool.waits().worker_starts, 0u);
+}
+
 TEST(core_test_thread_pool, ResultsDoNotDependOnThreadCount) {
   auto run = [](int threads) {
     ThreadPool pool(threads);

@@ -4,15 +4,21 @@ table of its medians into docs/benchmarks.md, between the markers
 <!-- NAME results: begin --> and <!-- NAME results: end -->.
 
     tools/benchmark_table.py NAME SCENE.xml [SCENE.xml ...] [--threads 1,2] [--repeat 3] [--build build]
-                             [--ticks T] [--set PATH=VALUE ...]
+                             [--ticks T] [--set PATH=VALUE ...] [--against BUILD]
 
 e.g. tools/benchmark_table.py mixed_11000 experiments/benchmarks/mixed_11000.xml experiments/benchmarks/diffusion_10000.xml
 Each row is one scene at one thread count: colony_bench's RESULT line (medians
-of the repetitions), with the load average when it ran."""
+of the repetitions), with the load average when it ran.
+
+With --against BUILD (another build folder, e.g. an earlier commit's), each row
+compares the two builds instead: their runs alternate (one run of BUILD, one of
+--build, --repeat times), so that a shared machine's slow minutes fall on both,
+and the medians of each stand side by side."""
 import argparse
 import datetime
 import os
 import shlex
+import statistics
 import subprocess
 import sys
 
@@ -41,7 +47,12 @@ def main():
     p.add_argument("--ticks", type=int, help="ticks per run (default: the scene's length)")
     p.add_argument("--set", action="append", default=[], metavar="PATH=VALUE",
                    help="an override passed to colony_bench for every scene (repeatable)")
+    p.add_argument("--against", metavar="BUILD",
+                   help="compare with this build folder, runs interleaved (the 'before' columns)")
     a = p.parse_args()
+    if a.against:
+        compare(a)
+        return
     lines = ["",
              "| scene | threads | robot-steps/s | CPU ns per robot-step | bytes per robot (peak) | load | physics share | state hash |",
              "|---|---|---|---|---|---|---|---|"]
@@ -58,6 +69,36 @@ def main():
               "written by `tools/benchmark_table.py %s`." % (
                   "Medians of %d repetitions" % a.repeat if a.repeat > 1 else "One run of each",
                   ", %d ticks each" % a.ticks if a.ticks else "", datetime.date.today().isoformat(),
+                  min(loads), max(loads), shlex.join(sys.argv[1:])), ""]
+    docblock.replace_block(DOC, "%s results" % a.name, lines)
+    print("docs/benchmarks.md: %s written" % a.name)
+
+
+def compare(a):
+    lines = ["",
+             "| scene | threads | robot-steps/s before | after | change | CPU ns per robot-step before | after "
+             "| state hash before | after |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    loads = []
+    for scene in a.scenes:
+        for t in [int(x) for x in a.threads.split(",")]:
+            loads.append(os.getloadavg()[0])
+            runs = {"before": [], "after": []}
+            for _ in range(a.repeat):
+                runs["before"].append(bench(a.against, scene, t, 1, a.set, a.ticks))
+                runs["after"].append(bench(a.build, scene, t, 1, a.set, a.ticks))
+            med = {k: (statistics.median(float(r["steps_per_s_median"]) for r in v),
+                       statistics.median(float(r["cpu_ns_per_robot_step"]) for r in v)) for k, v in runs.items()}
+            hashes = {k: sorted({r["state_hash"] for r in v}) for k, v in runs.items()}
+            after_hash = "same" if hashes["after"] == hashes["before"] else " ".join("`%s`" % h for h in hashes["after"])
+            lines.append("| %s | %d | %s | %s | %+.1f%% | %.0f | %.0f | %s | %s |" % (
+                runs["after"][0]["scene"], t, format(int(med["before"][0]), ","), format(int(med["after"][0]), ","),
+                100.0 * (med["after"][0] / med["before"][0] - 1), med["before"][1], med["after"][1],
+                " ".join("`%s`" % h for h in hashes["before"]), after_hash))
+    lines += ["",
+              "Medians of %d interleaved pairs of runs%s, measured %s with a load average of %.1f to %.1f before "
+              "the runs; written by `tools/benchmark_table.py %s`." % (
+                  a.repeat, ", %d ticks each" % a.ticks if a.ticks else "", datetime.date.today().isoformat(),
                   min(loads), max(loads), shlex.join(sys.argv[1:])), ""]
     docblock.replace_block(DOC, "%s results" % a.name, lines)
     print("docs/benchmarks.md: %s written" % a.name)

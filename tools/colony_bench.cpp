@@ -27,7 +27,10 @@
 // which is steadier than wall time on a shared machine.
 //
 // It prints each phase's share of the step time (Simulation::profile: act,
-// physics, media, loop functions, sense + control).
+// physics, media, loop functions, sense + control), and how long the threads
+// waited on each other (ThreadPool::waits): a worker's mean delay in taking
+// up a job (us) and the caller's waits for other threads' last chunks (% of
+// the step time); both 0 with one thread.
 //
 // Prints one line per repetition, the medians, and one machine-readable line
 // per scene:
@@ -36,6 +39,7 @@
 //          load_bytes_per_robot=...
 //          cpu_ns_per_robot_step=... state_hash=... act_pct=... physics_pct=...
 //          media_pct=... loop_functions_pct=... sense_control_pct=...
+//          worker_start_us=... caller_wait_pct=...
 // (threads as resolved: 0 and 1 both mean the calling thread only, shown as 1; the state
 // hash is that of the first repetition, and a warning is printed if the
 // repetitions disagree.)
@@ -66,6 +70,7 @@
 #include "core/simulation.h"
 #include "core/state_hash.h"
 #include "core/text.h"
+#include "core/thread_pool.h"
 
 namespace {
 
@@ -177,6 +182,10 @@ struct Repetition {
   uint64_t hash = 0;
   bool peak_reset = true;
   colony::StepProfile profile;
+  // Threads waiting on each other over the stepping loop (core/thread_pool.h):
+  // a worker's mean delay in taking up a job (us), and the caller's waits for
+  // other threads' last chunks as a share of the step time (%).
+  double worker_start_us = 0, caller_wait_pct = 0;
 };
 
 // Loads and runs `file` once.
@@ -205,6 +214,7 @@ Repetition RunOnce(const Options& o, const std::string& file, bool first) {
   }
   double robot_ticks = 0;
   sim->ResetProfile();
+  sim->pool().ResetWaits();
   const double cpu0 = CpuSeconds();
   for (uint64_t t = 0; t < ticks; ++t) {
     const auto s0 = Clock::now();
@@ -221,6 +231,9 @@ Repetition RunOnce(const Options& o, const std::string& file, bool first) {
   r.steps_per_s = r.step_s > 0 ? robot_ticks / r.step_s : 0;
   r.hash = sim->StateHash();
   r.profile = sim->profile();
+  const colony::ThreadPool::Waits waits = sim->pool().waits();
+  if (waits.worker_starts > 0) r.worker_start_us = 1e6 * waits.worker_start_s / waits.worker_starts;
+  if (r.step_s > 0) r.caller_wait_pct = 100 * waits.caller_wait_s / r.step_s;
   const long long peak = PeakBytes();
   const double robots = static_cast<double>(std::max<size_t>(r.robots, 1));
   r.bytes_per_robot = static_cast<double>(peak - peak0) / robots;
@@ -249,7 +262,7 @@ int Bench(const Options& o) {
           colony::StateHasher::Hex(r.hash).c_str());
       std::fflush(stdout);
     }
-    std::vector<double> sps, load, load_cpu, teardown, bpr, lbpr, cpu_ns;
+    std::vector<double> sps, load, load_cpu, teardown, bpr, lbpr, cpu_ns, worker_start, caller_wait;
     bool same_hash = true;
     for (const auto& r : reps) {
       sps.push_back(r.steps_per_s);
@@ -259,6 +272,8 @@ int Bench(const Options& o) {
       teardown.push_back(r.teardown_s);
       if (r.peak_reset) bpr.push_back(r.bytes_per_robot);
       lbpr.push_back(r.load_bytes_per_robot);
+      worker_start.push_back(r.worker_start_us);
+      caller_wait.push_back(r.caller_wait_pct);
       same_hash = same_hash && r.hash == reps.front().hash;
     }
     // Where a tick's time goes: each phase's share, medians over repetitions.
@@ -284,11 +299,12 @@ int Bench(const Options& o) {
         "load_s_median=%.3f load_cpu_s_median=%.3f teardown_s_median=%.3f "
         "bytes_per_robot=%.0f load_bytes_per_robot=%.0f cpu_ns_per_robot_step=%.0f state_hash=%s "
         "act_pct=%.1f physics_pct=%.1f media_pct=%.1f loop_functions_pct=%.1f "
-        "sense_control_pct=%.1f\n",
+        "sense_control_pct=%.1f worker_start_us=%.2f caller_wait_pct=%.1f\n",
         scene.c_str(), first.robots, first.threads, static_cast<unsigned long long>(first.ticks),
         Median(sps), Median(load), Median(load_cpu), Median(teardown), Median(bpr), Median(lbpr),
         Median(cpu_ns), colony::StateHasher::Hex(first.hash).c_str(), Median(share[0]),
-        Median(share[1]), Median(share[2]), Median(share[3]), Median(share[4]));
+        Median(share[1]), Median(share[2]), Median(share[3]), Median(share[4]),
+        Median(worker_start), Median(caller_wait));
     if (o.max_bytes_per_robot > 0 && Median(bpr) > static_cast<double>(o.max_bytes_per_robot)) {
       std::printf("OVER BUDGET %s: %.0f bytes per robot at the peak, more than the %lld allowed\n",
                   scene.c_str(), Median(bpr), o.max_bytes_per_robot);
