@@ -96,9 +96,10 @@ def compare(a):
                 100.0 * (med["after"][0] / med["before"][0] - 1), med["before"][1], med["after"][1],
                 " ".join("`%s`" % h for h in hashes["before"]), after_hash))
     lines += ["",
-              "Medians of %d interleaved pairs of runs%s, measured %s with a load average of %.1f to %.1f before "
+              "%s%s, measured %s with a load average of %.1f to %.1f before "
               "the runs; written by `tools/benchmark_table.py %s`." % (
-                  a.repeat, ", %d ticks each" % a.ticks if a.ticks else "", datetime.date.today().isoformat(),
+                  "Medians of %d interleaved pairs of runs" % a.repeat if a.repeat > 1 else "One pair of runs",
+                  ", %d ticks each" % a.ticks if a.ticks else "", datetime.date.today().isoformat(),
                   min(loads), max(loads), shlex.join(sys.argv[1:])), ""]
     docblock.replace_block(DOC, "%s results" % a.name, lines)
     print("docs/benchmarks.md: %s written" % a.name)
