@@ -51,55 +51,51 @@ def main():
                    help="compare with this build folder, runs interleaved (the 'before' columns)")
     a = p.parse_args()
     if a.against:
-        compare(a)
-        return
-    lines = ["",
-             "| scene | threads | robot-steps/s | CPU ns per robot-step | bytes per robot (peak) | load | physics share | state hash |",
-             "|---|---|---|---|---|---|---|---|"]
+        write_table(a, ["| scene | threads | robot-steps/s before | after | change "
+                        "| CPU ns per robot-step before | after | state hash before | after |",
+                        "|---|---|---|---|---|---|---|---|---|"], compared_row,
+                    "Medians of %d interleaved pairs of runs" % a.repeat if a.repeat > 1 else "One pair of runs")
+    else:
+        write_table(a, ["| scene | threads | robot-steps/s | CPU ns per robot-step | bytes per robot (peak) | load "
+                        "| physics share | state hash |",
+                        "|---|---|---|---|---|---|---|---|"], row,
+                    "Medians of %d repetitions" % a.repeat if a.repeat > 1 else "One run of each")
+
+
+def row(a, scene, t):
+    r = bench(a.build, scene, t, a.repeat, a.set, a.ticks)
+    return "| %s | %d | %s | %s | %s | %s s | %s%% | `%s` |" % (
+        r["scene"], t, format(int(float(r["steps_per_s_median"])), ","), r["cpu_ns_per_robot_step"],
+        format(int(r["bytes_per_robot"]), ","), r["load_s_median"], r["physics_pct"], r["state_hash"])
+
+
+def compared_row(a, scene, t):
+    runs = {"before": [], "after": []}
+    for _ in range(a.repeat):
+        runs["before"].append(bench(a.against, scene, t, 1, a.set, a.ticks))
+        runs["after"].append(bench(a.build, scene, t, 1, a.set, a.ticks))
+    sps = {k: statistics.median(float(r["steps_per_s_median"]) for r in v) for k, v in runs.items()}
+    ns = {k: statistics.median(float(r["cpu_ns_per_robot_step"]) for r in v) for k, v in runs.items()}
+    hashes = {k: " ".join("`%s`" % h for h in sorted({r["state_hash"] for r in v})) for k, v in runs.items()}
+    return "| %s | %d | %s | %s | %+.1f%% | %.0f | %.0f | %s | %s |" % (
+        runs["after"][0]["scene"], t, format(int(sps["before"]), ","), format(int(sps["after"]), ","),
+        100.0 * (sps["after"] / sps["before"] - 1), ns["before"], ns["after"], hashes["before"],
+        "same" if hashes["after"] == hashes["before"] else hashes["after"])
+
+
+def write_table(a, header, make_row, what):
+    """One row per scene and thread count (make_row(a, scene, threads)), then a line saying what the
+    figures are (`what`), when and how they were made, into the block NAME of docs/benchmarks.md."""
+    lines = [""] + header
     loads = []
     for scene in a.scenes:
         for t in [int(x) for x in a.threads.split(",")]:
             loads.append(os.getloadavg()[0])
-            r = bench(a.build, scene, t, a.repeat, a.set, a.ticks)
-            lines.append("| %s | %d | %s | %s | %s | %s s | %s%% | `%s` |" % (
-                r["scene"], t, format(int(float(r["steps_per_s_median"])), ","), r["cpu_ns_per_robot_step"],
-                format(int(r["bytes_per_robot"]), ","), r["load_s_median"], r["physics_pct"], r["state_hash"]))
+            lines.append(make_row(a, scene, t))
     lines += ["",
               "%s%s, measured %s with a load average of %.1f to %.1f before the runs; "
               "written by `tools/benchmark_table.py %s`." % (
-                  "Medians of %d repetitions" % a.repeat if a.repeat > 1 else "One run of each",
-                  ", %d ticks each" % a.ticks if a.ticks else "", datetime.date.today().isoformat(),
-                  min(loads), max(loads), shlex.join(sys.argv[1:])), ""]
-    docblock.replace_block(DOC, "%s results" % a.name, lines)
-    print("docs/benchmarks.md: %s written" % a.name)
-
-
-def compare(a):
-    lines = ["",
-             "| scene | threads | robot-steps/s before | after | change | CPU ns per robot-step before | after "
-             "| state hash before | after |",
-             "|---|---|---|---|---|---|---|---|---|"]
-    loads = []
-    for scene in a.scenes:
-        for t in [int(x) for x in a.threads.split(",")]:
-            loads.append(os.getloadavg()[0])
-            runs = {"before": [], "after": []}
-            for _ in range(a.repeat):
-                runs["before"].append(bench(a.against, scene, t, 1, a.set, a.ticks))
-                runs["after"].append(bench(a.build, scene, t, 1, a.set, a.ticks))
-            med = {k: (statistics.median(float(r["steps_per_s_median"]) for r in v),
-                       statistics.median(float(r["cpu_ns_per_robot_step"]) for r in v)) for k, v in runs.items()}
-            hashes = {k: sorted({r["state_hash"] for r in v}) for k, v in runs.items()}
-            after_hash = "same" if hashes["after"] == hashes["before"] else " ".join("`%s`" % h for h in hashes["after"])
-            lines.append("| %s | %d | %s | %s | %+.1f%% | %.0f | %.0f | %s | %s |" % (
-                runs["after"][0]["scene"], t, format(int(med["before"][0]), ","), format(int(med["after"][0]), ","),
-                100.0 * (med["after"][0] / med["before"][0] - 1), med["before"][1], med["after"][1],
-                " ".join("`%s`" % h for h in hashes["before"]), after_hash))
-    lines += ["",
-              "%s%s, measured %s with a load average of %.1f to %.1f before "
-              "the runs; written by `tools/benchmark_table.py %s`." % (
-                  "Medians of %d interleaved pairs of runs" % a.repeat if a.repeat > 1 else "One pair of runs",
-                  ", %d ticks each" % a.ticks if a.ticks else "", datetime.date.today().isoformat(),
+                  what, ", %d ticks each" % a.ticks if a.ticks else "", datetime.date.today().isoformat(),
                   min(loads), max(loads), shlex.join(sys.argv[1:])), ""]
     docblock.replace_block(DOC, "%s results" % a.name, lines)
     print("docs/benchmarks.md: %s written" % a.name)
