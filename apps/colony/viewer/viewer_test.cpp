@@ -1548,6 +1548,11 @@ TEST(Viewer, ChromiumShowsWhatTheLoopFunctionsDrawAndTheIdOverlay) {
   browser.Open(served.url() + "?overlays=ids,rays,fov&select=fb2");
   // Drawn, with fb2's inspection in: its 24 rays and its camera's range (48 segments).
   WaitFor(browser, "document.body.dataset.overlayLines === '72'", true);
+  // The id labels may come a frame after the rays (seen on a busy machine).
+  WaitFor(browser,
+          "['>fb0<', '>fb9<', '>eye0<'].every(s => "
+          "document.documentElement.outerHTML.includes(s))",
+          true);
   const json html = browser.Evaluate("document.documentElement.outerHTML");
   const std::string text = html.is_string() ? html.get<std::string>() : "";
   const std::string dom = dir + "/dom_drawing.html";
