@@ -39,8 +39,11 @@ class Diffusion : public colony::Controller {
       x /= readings.size();
       y /= readings.size();
     }
-    const double angle = std::atan2(y, x);
-    const double length = std::hypot(x, y);
+    // Most robots of a swarm see nothing: both sums are then +0 (they start
+    // at +0, and adding -0 to +0 gives +0), whose atan2 and hypot are 0.
+    const bool nothing = x == 0 && y == 0;
+    const double angle = nothing ? 0.0 : std::atan2(y, x);
+    const double length = nothing ? 0.0 : std::hypot(x, y);
     const bool clear_ahead = std::abs(angle) <= alpha_ && length < delta_;
     if (clear_ahead || std::abs(angle) > M_PI / 2) {
       wheels_->SetLinearVelocity(velocity_, velocity_);
