@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -322,6 +323,24 @@ TEST_F(core_test_space, HugeArenaGridIsBoundedAndStillFindsNeighbours) {
   EXPECT_TRUE(HasSlot(Gathered(space, -1e300, 4e4, 1e300, 1e300), w.index));
   const double nan = std::nan("");
   EXPECT_LE(Gathered(space, nan, nan, nan, nan).size(), 2u);
+}
+
+TEST(core_test_cells, CellIndexIsTheCellOrTheNearestEdgeCell) {
+  const int n = 10;
+  EXPECT_EQ(ClampedCellIndex(0.0, n), 0);
+  EXPECT_EQ(ClampedCellIndex(0.999, n), 0);
+  EXPECT_EQ(ClampedCellIndex(1.0, n), 1);
+  EXPECT_EQ(ClampedCellIndex(4.5, n), 4);
+  EXPECT_EQ(ClampedCellIndex(9.999, n), 9);
+  // Outside the grid, infinite or NaN: an edge cell, never an overflow.
+  EXPECT_EQ(ClampedCellIndex(10.0, n), 9);
+  EXPECT_EQ(ClampedCellIndex(-0.5, n), 0);
+  EXPECT_EQ(ClampedCellIndex(-1e300, n), 0);
+  EXPECT_EQ(ClampedCellIndex(1e300, n), 9);
+  EXPECT_EQ(ClampedCellIndex(std::numeric_limits<double>::infinity(), n), 9);
+  EXPECT_EQ(ClampedCellIndex(-std::numeric_limits<double>::infinity(), n), 0);
+  EXPECT_EQ(ClampedCellIndex(std::nan(""), n), 0);
+  EXPECT_EQ(ClampedCellIndex(3.0, 1), 0);
 }
 
 TEST_F(core_test_space, SmallArenaKeepsHalfMetreCells) {
