@@ -10,7 +10,8 @@ namespace colony {
 ThreadPool::ThreadPool(int threads)
     : threads_(std::max(threads, 0)),
       spin_(static_cast<unsigned>(threads_) <= std::thread::hardware_concurrency()) {
-  for (int i = 1; i < threads_; ++i) workers_.emplace_back([this] { WorkerLoop(); });
+  shares_.resize(std::max(threads_, 1));
+  for (int i = 1; i < threads_; ++i) workers_.emplace_back([this, i] { WorkerLoop(i); });
 }
 
 ThreadPool::~ThreadPool() {
@@ -56,13 +57,21 @@ bool SpinUntil(Done&& done) {
 thread_local bool t_in_job = false;
 }  // namespace
 
-// Takes chunks until none is left; the mutex is held on entry and exit.
-void ThreadPool::RunChunks() {
+// Takes chunks until none is left, its own share first; the mutex is held on
+// entry and exit.
+void ThreadPool::RunChunks(int home) {
   std::unique_lock lock(mutex_, std::adopt_lock);
-  while (next_ < n_) {
-    const size_t begin = next_;
+  while (left_ > 0) {
+    Share* from = &shares_[home];
+    if (from->front == from->back) {
+      for (Share& s : shares_) {
+        if (s.back - s.front > from->back - from->front) from = &s;
+      }
+    }
+    const size_t c = from == &shares_[home] ? from->front++ : --from->back;
+    --left_;
+    const size_t begin = c * chunk_;
     const size_t end = std::min(n_, begin + chunk_);
-    next_ = end;
     pending_.fetch_add(1, std::memory_order_relaxed);
     const auto* job = job_;
     lock.unlock();
@@ -70,12 +79,12 @@ void ThreadPool::RunChunks() {
     (*job)(begin, end);
     t_in_job = false;
     lock.lock();
-    if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1 && next_ >= n_) done_.notify_all();
+    if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1 && left_ == 0) done_.notify_all();
   }
   lock.release();
 }
 
-void ThreadPool::WorkerLoop() {
+void ThreadPool::WorkerLoop(int home) {
   UseAlternateSignalStack();
   uint64_t seen = 0;
   while (true) {
@@ -101,7 +110,7 @@ void ThreadPool::WorkerLoop() {
     ++waits_.worker_starts;
     waits_.worker_start_s +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - job_start_).count();
-    RunChunks();
+    RunChunks(home);
     mutex_.unlock();
   }
 }
@@ -125,14 +134,18 @@ void ThreadPool::ParallelFor(size_t n, size_t min_chunk, ChunkFn fn) {
   job_ = &fn;
   n_ = n;
   chunk_ = chunk;
-  next_ = 0;
+  const size_t chunks = (n + chunk - 1) / chunk;
+  left_ = chunks;
+  for (size_t t = 0; t < shares_.size(); ++t) {
+    shares_[t] = {t * chunks / shares_.size(), (t + 1) * chunks / shares_.size()};
+  }
   ++waits_.jobs;
   job_start_ = std::chrono::steady_clock::now();
   pending_.store(0, std::memory_order_relaxed);
   generation_.fetch_add(1, std::memory_order_release);
   wake_.notify_all();
   lock.release();
-  RunChunks();
+  RunChunks(0);
   // Every chunk is taken (RunChunks returns when none is left): wait for the
   // ones other threads are still running.
   const auto wait_start = std::chrono::steady_clock::now();

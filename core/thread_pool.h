@@ -65,8 +65,8 @@ class ThreadPool {
   void ResetWaits();
 
  private:
-  void WorkerLoop();
-  void RunChunks();
+  void WorkerLoop(int home);
+  void RunChunks(int home);
 
   int threads_;
   bool spin_;  // wait by spinning briefly before sleeping (not when oversubscribed)
@@ -75,7 +75,17 @@ class ThreadPool {
   std::condition_variable wake_;
   std::condition_variable done_;
   const ChunkFn* job_ = nullptr;
-  size_t n_ = 0, chunk_ = 0, next_ = 0;
+  size_t n_ = 0, chunk_ = 0, left_ = 0;  // left_: chunks not yet taken
+  // Each thread's share of a job's chunks (the caller's is the first, worker
+  // k's the k+1st), [front, back): a thread takes its own from the front and,
+  // when they are gone, another's from the back. Jobs over the same items
+  // follow each other in a tick (sense + control, the actuators, the engine's
+  // passes), so each thread mostly gets the same items again, still in its
+  // cache, rather than whichever the other thread wrote last.
+  struct Share {
+    size_t front = 0, back = 0;
+  };
+  std::vector<Share> shares_;
   // Changed under the mutex; read without it by threads spinning for them.
   std::atomic<size_t> pending_ = 0;  // chunks being run
   std::atomic<uint64_t> generation_ = 0;
