@@ -204,37 +204,38 @@ class ProximitySystem : public SensorSystem {
       const double cy = std::cos(yaw), sy = std::sin(yaw);
       const Vec2* directions = p.ring->directions;
       const size_t count = values.size();
+      // A ray lies on a line through the robot's axis: a footprint whose
+      // bounding circle stays off that line, or wholly behind the ray's
+      // origin, is not hit (the slack in `bound` is far above rounding, so
+      // every hit the ray test finds passes).
+      auto misses = [&](const Vec2& dir, const Vec2& offset, double bound) {
+        const double across = dir.x() * offset.y() - dir.y() * offset.x();
+        return std::abs(across) > bound || dir.dot(offset) + bound < m.radius;
+      };
       // The rays that may hit some target, found for all rays at once with
-      // each target's offset turned into the robot's frame: a ray lies on a
-      // line through the robot's axis, so a footprint whose bounding circle
-      // stays off that line, or wholly behind the ray's origin, is not hit.
-      // Most rays pass no target and are not cast. (The rounding of this test
-      // differs from the world-frame one below by far less than the slack in
-      // `bound`: every ray that test passes is marked here.)
-      uint64_t may_hit = count <= 64 ? 0 : ~uint64_t{0};
-      if (count <= 64) {
+      // each target's offset turned into the robot's frame; most rays pass
+      // none and are not cast. (This test's rounding differs from the
+      // world-frame one below by far less than the slack: every ray that one
+      // passes is marked here.) Rings of more than 64 cast every ray.
+      const bool masked = count <= 64;
+      uint64_t may_hit = 0;
+      if (masked) {
         for (const Target& t : targets) {
           const Vec2 local(cy * t.offset.x() + sy * t.offset.y(),
                            cy * t.offset.y() - sy * t.offset.x());
           for (size_t i = 0; i < count; ++i) {
-            const Vec2& l = directions[i];
-            const double across = l.x() * local.y() - l.y() * local.x();
-            const bool passes = std::abs(across) <= t.bound && l.dot(local) + t.bound >= m.radius;
-            may_hit |= uint64_t{passes} << i;
+            may_hit |= uint64_t{!misses(directions[i], local, t.bound)} << i;
           }
         }
       }
       for (size_t i = 0; i < count; ++i) {
         double best = kNoHit;
-        if (i >= 64 || (may_hit >> i & 1)) {
+        if (!masked || (may_hit >> i & 1)) {
           const Vec2& l = directions[i];
           const Vec2 dir(cy * l.x() - sy * l.y(), sy * l.x() + cy * l.y());
           const Vec2 origin = c + m.radius * dir;
           for (const Target& t : targets) {
-            // The same test as above, in the world's frame, for this ray.
-            const double across = dir.x() * t.offset.y() - dir.y() * t.offset.x();
-            if (std::abs(across) > t.bound || dir.dot(t.offset) + t.bound < m.radius) continue;
-            best = std::min(best, t.footprint.Ray(origin, dir));
+            if (!misses(dir, t.offset, t.bound)) best = std::min(best, t.footprint.Ray(origin, dir));
           }
         }
         const double value = best <= range ? std::min(1.0, 0.01 / std::max(best, 1e-6)) : 0.0;
