@@ -73,6 +73,7 @@ void Simulation::Build(const ExperimentSpec& spec) {
   CreateRenderers(spec.renderers);
   diagnostics.ThrowIfAny();
   if (!pool_ || pool_->threads() != threads_) pool_ = std::make_unique<ThreadPool>(threads_);
+  space_.set_pool(pool_.get());
   rng_ = RandomStream::For(seed_, "loop_functions", "");
   BuildArena(spec.arena);
   // The placement's scratch (its index, the poses of blocks numbered by

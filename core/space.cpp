@@ -7,6 +7,7 @@
 
 #include "core/bounds.h"
 #include "core/huge_pages.h"
+#include "core/thread_pool.h"
 
 namespace colony {
 
@@ -225,29 +226,77 @@ void Space::ConfigureGrid() {
 }
 
 void Space::BuildMovableGrid() {
-  const size_t cells = static_cast<size_t>(nx_) * ny_;
-  for (CellStart& c : cell_start_) c.movable = 0;
-  cell_scratch_.resize(slots());
+  // A counting sort of the movable solid entities by the cell of their
+  // centre, slot order within a cell. The grid's rows are cut into bands,
+  // one per thread: each band counts, then places, the entities whose cell
+  // it holds, reading every slot in order. The bands write apart, so the
+  // order is the same whatever the thread count.
   const uint32_t n = slots();
-  // Counting sort of movable solid entities by the cell of their centre.
-  for (uint32_t i = 0; i < n; ++i) {
-    if ((flags_[i] & (kAlive | kMovable | kSolid)) != (kAlive | kMovable | kSolid)) {
-      cell_scratch_[i] = UINT32_MAX;
-      continue;
+  cell_scratch_.resize(n);
+  auto cells_of = [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      if ((flags_[i] & (kAlive | kMovable | kSolid)) != (kAlive | kMovable | kSolid)) {
+        cell_scratch_[i] = UINT32_MAX;
+        continue;
+      }
+      const Vec3& p = poses_[i].position;
+      cell_scratch_[i] = static_cast<uint32_t>(CellY(p.y()) * nx_ + CellX(p.x()));
     }
-    const Vec3& p = poses_[i].position;
-    const uint32_t c = static_cast<uint32_t>(CellY(p.y()) * nx_ + CellX(p.x()));
-    cell_scratch_[i] = c;
-    ++cell_start_[c + 1].movable;
-  }
-  for (size_t c = 0; c < cells; ++c) cell_start_[c + 1].movable += cell_start_[c].movable;
-  movable_items_.resize(cell_start_[cells].movable);
+  };
+  const size_t bands = pool_ ? std::min<size_t>(std::max(pool_->threads(), 1), ny_) : 1;
+  auto band_cells = [&](size_t b) {
+    return std::pair<uint32_t, uint32_t>(static_cast<uint32_t>(b * ny_ / bands * nx_),
+                                         static_cast<uint32_t>((b + 1) * ny_ / bands * nx_));
+  };
+  band_offset_.assign(bands + 1, 0);
+  // Counts of each cell c of the band in cell_start_[c + 1].
+  auto count = [&](size_t b) {
+    const auto [first, last] = band_cells(b);
+    for (uint32_t c = first; c < last; ++c) cell_start_[c + 1].movable = 0;
+    uint32_t total = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+      const uint32_t c = cell_scratch_[i];
+      if (c >= first && c < last) {
+        ++cell_start_[c + 1].movable;
+        ++total;
+      }
+    }
+    band_offset_[b + 1] = total;
+  };
+  // Starts of the band's cells (the band's own offset first), then its
+  // entities into place.
   std::vector<uint32_t>& cursor = cell_cursor_;
-  cursor.resize(cells);
-  for (size_t c = 0; c < cells; ++c) cursor[c] = cell_start_[c].movable;
-  for (uint32_t i = 0; i < n; ++i) {
-    if (cell_scratch_[i] != UINT32_MAX) movable_items_[cursor[cell_scratch_[i]]++] = i;
+  cursor.resize(static_cast<size_t>(nx_) * ny_);
+  auto place = [&](size_t b) {
+    const auto [first, last] = band_cells(b);
+    uint32_t run = band_offset_[b];
+    for (uint32_t c = first; c < last; ++c) {
+      cursor[c] = run;
+      run += cell_start_[c + 1].movable;
+      cell_start_[c + 1].movable = run;
+    }
+    for (uint32_t i = 0; i < n; ++i) {
+      const uint32_t c = cell_scratch_[i];
+      if (c >= first && c < last) movable_items_[cursor[c]++] = i;
+    }
+  };
+  cell_start_[0].movable = 0;
+  if (bands == 1) {
+    cells_of(0, n);
+    count(0);
+    movable_items_.resize(band_offset_[1]);
+    place(0);
+    return;
   }
+  pool_->ParallelFor(n, 1024, [&](size_t begin, size_t end) { cells_of(begin, end); });
+  pool_->ParallelFor(bands, 1, [&](size_t begin, size_t end) {
+    for (size_t b = begin; b < end; ++b) count(b);
+  });
+  for (size_t b = 0; b < bands; ++b) band_offset_[b + 1] += band_offset_[b];
+  movable_items_.resize(band_offset_[bands]);
+  pool_->ParallelFor(bands, 1, [&](size_t begin, size_t end) {
+    for (size_t b = begin; b < end; ++b) place(b);
+  });
 }
 
 void Space::BuildStaticGrid() {

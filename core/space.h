@@ -25,6 +25,8 @@
 
 namespace colony {
 
+class ThreadPool;
+
 struct EntityHandle {
   static constexpr uint32_t kInvalid = 0xFFFFFFFFu;
   uint32_t index = kInvalid;
@@ -216,6 +218,9 @@ class Space {
   // Rebuilds the spatial index from the current poses. Called once per tick
   // after physics and whenever entities were added or removed.
   void UpdateIndex();
+  // The pool the spatial index is rebuilt with (the simulation's; none: on
+  // the calling thread alone). The result is the same either way.
+  void set_pool(ThreadPool* pool) { pool_ = pool; }
   bool index_dirty() const { return index_dirty_; }
   // Appends to `out` every solid entity whose footprint may overlap the
   // rectangle [x0, x1] x [y0, y1], each once, in slot order per grid cell.
@@ -329,6 +334,8 @@ class Space {
   bool index_dirty_ = true, static_dirty_ = true;
   double max_movable_radius_ = 0;
   std::vector<uint32_t> cell_scratch_;
+  std::vector<uint32_t> band_offset_;  // movable entries before each band of rows
+  ThreadPool* pool_ = nullptr;
   std::vector<uint32_t> cell_cursor_;
 };
 

@@ -10,11 +10,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "core/device.h"
 #include "core/huge_pages.h"
+#include "core/thread_pool.h"
 
 namespace colony {
 namespace {
@@ -323,6 +325,29 @@ TEST_F(core_test_space, HugeArenaGridIsBoundedAndStillFindsNeighbours) {
   EXPECT_TRUE(HasSlot(Gathered(space, -1e300, 4e4, 1e300, 1e300), w.index));
   const double nan = std::nan("");
   EXPECT_LE(Gathered(space, nan, nan, nan, nan).size(), 2u);
+}
+
+TEST_F(core_test_space, TheIndexIsTheSameBuiltByOneThreadOrSeveral) {
+  // Robots scattered over every band of rows (and some outside the arena,
+  // filed in edge cells), a wall, and a removed robot.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> at(-6.0, 6.0);
+  for (int i = 0; i < 3000; ++i) {
+    space.Add(Robot("r" + std::to_string(i), robot_type, at(rng), at(rng), 0.05));
+  }
+  space.Add(Wall("w", box_type, 0, 4.9, 10, 0.2));
+  space.Remove(space.Find("r17"));
+  space.UpdateIndex();
+  const std::vector<uint32_t> alone = space.movable_by_cell();
+  ASSERT_EQ(alone.size(), 2999u);
+  for (int threads : {2, 3, 8}) {
+    ThreadPool pool(threads);
+    space.set_pool(&pool);
+    space.UpdateIndex();
+    EXPECT_EQ(space.movable_by_cell(), alone) << threads << " threads";
+    EXPECT_TRUE(HasSlot(Gathered(space, 4.5, 4.5, 5, 5), space.Find("w").index));
+  }
+  space.set_pool(nullptr);
 }
 
 TEST(core_test_cells, CellIndexIsTheCellOrTheNearestEdgeCell) {
