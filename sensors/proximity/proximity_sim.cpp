@@ -235,7 +235,8 @@ class ProximitySystem : public SensorSystem {
           const Vec2 dir(cy * l.x() - sy * l.y(), sy * l.x() + cy * l.y());
           const Vec2 origin = c + m.radius * dir;
           for (const Target& t : targets) {
-            if (!misses(dir, t.offset, t.bound)) best = std::min(best, t.footprint.Ray(origin, dir));
+            if (!misses(dir, t.offset, t.bound))
+              best = std::min(best, t.footprint.Ray(origin, dir));
           }
         }
         const double value = best <= range ? std::min(1.0, 0.01 / std::max(best, 1e-6)) : 0.0;
