@@ -327,7 +327,7 @@ TEST_F(core_test_space, HugeArenaGridIsBoundedAndStillFindsNeighbours) {
   EXPECT_LE(Gathered(space, nan, nan, nan, nan).size(), 2u);
 }
 
-TEST_F(core_test_space, TheIndexIsTheSameBuiltByOneThreadOrSeveral) {
+TEST_F(core_test_space, IndexBuiltOnThreadsIsTheOneThreadsIndex) {
   // Robots scattered over every band of rows (and some outside the arena,
   // filed in edge cells), a wall, and a removed robot.
   std::mt19937 rng(3);
