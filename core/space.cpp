@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <functional>
 #include <stdexcept>
+#include <utility>
 
 #include "core/bounds.h"
 #include "core/huge_pages.h"
