@@ -281,23 +281,25 @@ void Space::BuildMovableGrid() {
       if (c >= first && c < last) movable_items_[cursor[c]++] = i;
     }
   };
+  // On the pool's threads, or on this one without a pool.
+  auto run = [&](size_t items, size_t min_chunk, auto&& fn) {
+    if (pool_) {
+      pool_->ParallelFor(items, min_chunk, fn);
+    } else {
+      fn(size_t{0}, items);
+    }
+  };
+  auto each_band = [&](auto&& fn) {
+    run(bands, 1, [&](size_t begin, size_t end) {
+      for (size_t b = begin; b < end; ++b) fn(b);
+    });
+  };
   cell_start_[0].movable = 0;
-  if (bands == 1) {
-    cells_of(0, n);
-    count(0);
-    movable_items_.resize(band_offset_[1]);
-    place(0);
-    return;
-  }
-  pool_->ParallelFor(n, 1024, [&](size_t begin, size_t end) { cells_of(begin, end); });
-  pool_->ParallelFor(bands, 1, [&](size_t begin, size_t end) {
-    for (size_t b = begin; b < end; ++b) count(b);
-  });
+  run(n, 1024, cells_of);
+  each_band(count);
   for (size_t b = 0; b < bands; ++b) band_offset_[b + 1] += band_offset_[b];
   movable_items_.resize(band_offset_[bands]);
-  pool_->ParallelFor(bands, 1, [&](size_t begin, size_t end) {
-    for (size_t b = begin; b < end; ++b) place(b);
-  });
+  each_band(place);
 }
 
 void Space::BuildStaticGrid() {
