@@ -5,6 +5,7 @@
 // then noise is added and the value clamped to [0, 1].
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <deque>
@@ -30,6 +31,8 @@ struct ProximityRing {
   const RingMount* mount = nullptr;
   // Unit vectors of the sensors in the robot frame, one per reading.
   const Vec2* directions = nullptr;
+  // The same unit vectors, x and y apart (for the loop over all rays at once).
+  std::vector<double> dx, dy;
   // The sensors' angles as the readings give them (rad, wrapped to (-pi, pi]).
   std::vector<float> angles;
   std::atomic<bool>* any_watch = nullptr;  // the system's: some instance has watches
@@ -213,34 +216,60 @@ class ProximitySystem : public SensorSystem {
         return std::abs(across) > bound || dir.dot(offset) + bound < m.radius;
       };
       // The rays that may hit some target, found for all rays at once with
-      // each target's offset turned into the robot's frame; most rays pass
-      // none and are not cast. (This test's rounding differs from the
-      // world-frame one below by far less than the slack: every ray that one
-      // passes is marked here.) Rings of more than 64 cast every ray.
-      const bool masked = count <= 64;
-      uint64_t may_hit = 0;
-      if (masked) {
+      // each target's offset turned into the robot's frame (one loop over
+      // the ring's directions, x and y apart); most rays pass none and are
+      // not cast. (This test's rounding differs from the world-frame one
+      // below by far less than the slack: every ray that one passes is
+      // marked here.) Rings of more than 64 cast every ray.
+      uint64_t may_hit = ~uint64_t{0};
+      if (count <= 64) {
+        // How far each ray passes outside every target's circle (or behind
+        // its origin), the least over targets: min and max only, so the
+        // loop vectorizes. A ray is marked where that is <= 0 (for finite
+        // numbers, a - b <= 0 exactly when a <= b).
+        const double* dx = p.ring->dx.data();
+        const double* dy = p.ring->dy.data();
+        double excess[64];
+        std::fill(excess, excess + count, kNoHit);
+        bool finite = true;
         for (const Target& t : targets) {
-          const Vec2 local(cy * t.offset.x() + sy * t.offset.y(),
-                           cy * t.offset.y() - sy * t.offset.x());
+          const double lx = cy * t.offset.x() + sy * t.offset.y();
+          const double ly = cy * t.offset.y() - sy * t.offset.x();
+          const double bound = t.bound, behind = m.radius - t.bound;
+          finite = finite && std::isfinite(lx) && std::isfinite(ly);
           for (size_t i = 0; i < count; ++i) {
-            may_hit |= uint64_t{!misses(directions[i], local, t.bound)} << i;
+            const double across = dx[i] * ly - dy[i] * lx;
+            const double along = dx[i] * lx + dy[i] * ly;
+            excess[i] = std::min(excess[i], std::max(std::abs(across) - bound, behind - along));
           }
         }
+        may_hit = 0;
+        for (size_t i = 0; i < count; ++i) may_hit |= uint64_t{excess[i] <= 0} << i;
+        if (!finite) may_hit = ~uint64_t{0};  // cast every ray, as the world-frame test would
       }
-      for (size_t i = 0; i < count; ++i) {
+      // The nearest hit of each marked ray, every other ray missing.
+      auto cast = [&](size_t i) {
+        const Vec2& l = directions[i];
+        const Vec2 dir(cy * l.x() - sy * l.y(), sy * l.x() + cy * l.y());
+        const Vec2 origin = c + m.radius * dir;
         double best = kNoHit;
-        if (!masked || (may_hit >> i & 1)) {
-          const Vec2& l = directions[i];
-          const Vec2 dir(cy * l.x() - sy * l.y(), sy * l.x() + cy * l.y());
-          const Vec2 origin = c + m.radius * dir;
-          for (const Target& t : targets) {
-            if (!misses(dir, t.offset, t.bound))
-              best = std::min(best, t.footprint.Ray(origin, dir));
-          }
+        for (const Target& t : targets) {
+          if (!misses(dir, t.offset, t.bound)) best = std::min(best, t.footprint.Ray(origin, dir));
         }
-        const double value = best <= range ? std::min(1.0, 0.01 / std::max(best, 1e-6)) : 0.0;
-        values[i] = static_cast<float>(Noisy(value, k));
+        return best <= range ? std::min(1.0, 0.01 / std::max(best, 1e-6)) : 0.0;
+      };
+      if (!noise_.enabled() && count <= 64) {
+        std::fill(values.begin(), values.end(), 0.0f);
+        for (uint64_t bits = may_hit; bits != 0; bits &= bits - 1) {
+          const size_t i = static_cast<size_t>(std::countr_zero(bits));
+          values[i] = static_cast<float>(cast(i));
+        }
+      } else {
+        // Noise is drawn ray by ray, in ring order.
+        for (size_t i = 0; i < count; ++i) {
+          const double value = (i >= 64 || (may_hit >> i & 1)) ? cast(i) : 0.0;
+          values[i] = static_cast<float>(Noisy(value, k));
+        }
       }
       if (p.watches) CheckWatches(p);
     }
@@ -264,8 +293,11 @@ class ProximitySystem : public SensorSystem {
     ring.mount = &mount;
     ring.directions = directions_.Of(mount);
     ring.any_watch = &any_watch_;
-    for (int i = 0; i < mount.count; ++i)
+    for (int i = 0; i < mount.count; ++i) {
       ring.angles.push_back(static_cast<float>(WrapAngle(mount.AngleOf(i))));
+      ring.dx.push_back(ring.directions[i].x());
+      ring.dy.push_back(ring.directions[i].y());
+    }
     return ring;
   }
   static void CheckWatches(ProximityInstance& p) {
