@@ -44,6 +44,8 @@ class ObstacleVector {
   Vector Read() const {
     Vector v;
     const auto& readings = proximity_->readings();
+    // Values of 0 (of either sign) would leave both sums at +0.
+    if (readings.AllZero()) return v;
     for (size_t i = 0; i < readings.size(); ++i) {
       v.x += readings[i].value * cos_[i];
       v.y += readings[i].value * sin_[i];

@@ -31,16 +31,18 @@ class Diffusion : public colony::Controller {
   void ControlStep() override {
     double x = 0, y = 0;
     const auto& readings = proximity_->readings();
-    for (size_t i = 0; i < readings.size(); ++i) {
-      x += readings[i].value * ring_->cos[i];
-      y += readings[i].value * ring_->sin[i];
-    }
-    if (!readings.empty()) {
+    // Most robots of a swarm see nothing. When every value is 0 (of either
+    // sign), both sums would stay +0 (they start at +0, and adding -0 to +0
+    // gives +0), and the loop of dependent additions is skipped.
+    if (!readings.AllZero()) {
+      for (size_t i = 0; i < readings.size(); ++i) {
+        x += readings[i].value * ring_->cos[i];
+        y += readings[i].value * ring_->sin[i];
+      }
       x /= readings.size();
       y /= readings.size();
     }
-    // Most robots of a swarm see nothing: both sums are then +0 (they start
-    // at +0, and adding -0 to +0 gives +0), whose atan2 and hypot are 0.
+    // Both sums +0: their atan2 and hypot are 0.
     const bool nothing = x == 0 && y == 0;
     const double angle = nothing ? 0.0 : std::atan2(y, x);
     const double length = nothing ? 0.0 : std::hypot(x, y);

@@ -103,6 +103,13 @@ class ProximitySensor::Readings {
   Reading back() const { return (*this)[size_ - 1]; }
   Iterator begin() const { return {values_, angles_}; }
   Iterator end() const { return {values_ + size_, angles_ + size_}; }
+  // Whether every value is 0 (nothing in range of any sensor, as for most
+  // robots of a sparse swarm): one pass without a branch per sensor.
+  bool AllZero() const {
+    bool seen = false;
+    for (size_t i = 0; i < size_; ++i) seen |= values_[i] != 0.0f;
+    return !seen;
+  }
 
  private:
   const float* values_ = nullptr;

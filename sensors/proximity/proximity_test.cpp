@@ -97,6 +97,25 @@ TEST(Proximity, NothingInRangeReadsZero) {
   for (const auto& x : Readings(*sim, "r")) EXPECT_EQ(x.value, 0.0f) << "angle " << x.angle;
 }
 
+// What controllers ask before summing a ring (the diffusion controller, the
+// swarm obstacle vector): true only when no sensor reads anything.
+TEST(Proximity, AllZeroHoldsOnlyWhenNoSensorReadsAnything) {
+  const float angles[4] = {0.0f, 1.5f, 3.0f, -1.5f};
+  float values[4] = {0.0f, -0.0f, 0.0f, 0.0f};
+  EXPECT_TRUE(ProximitySensor::Readings(values, angles, 4).AllZero());  // -0 reads nothing
+  EXPECT_TRUE(ProximitySensor::Readings(values, angles, 0).AllZero());  // no sensors
+  for (int i = 0; i < 4; ++i) {
+    float seen[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    seen[i] = 1e-30f;  // the faintest reading counts
+    EXPECT_FALSE(ProximitySensor::Readings(seen, angles, 4).AllZero()) << "sensor " << i;
+  }
+  values[3] = std::nanf("");
+  EXPECT_FALSE(ProximitySensor::Readings(values, angles, 4).AllZero());
+  // Only the first `size` values are looked at.
+  values[3] = 1.0f;
+  EXPECT_TRUE(ProximitySensor::Readings(values, angles, 3).AllZero());
+}
+
 TEST(Proximity, BoxInFrontIsSeenByTheFrontSensorsOnly) {
   // Box face 5 cm in front of the body (the body's radius is 8.5 cm).
   auto sim = LoadXml(
