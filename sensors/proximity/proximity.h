@@ -2,6 +2,7 @@
 // On the marXbot: 24 sensors, 15 degrees apart, 6 cm above the floor.
 #pragma once
 
+#include <bit>
 #include <compare>
 #include <cstddef>
 #include <cstdint>
@@ -104,11 +105,12 @@ class ProximitySensor::Readings {
   Iterator begin() const { return {values_, angles_}; }
   Iterator end() const { return {values_ + size_, angles_ + size_}; }
   // Whether every value is 0 (nothing in range of any sensor, as for most
-  // robots of a sparse swarm): one pass without a branch per sensor.
+  // robots of a sparse swarm): the bits of all values but their signs, or'ed
+  // together (one vectorized pass; a NaN is not 0).
   bool AllZero() const {
-    bool seen = false;
-    for (size_t i = 0; i < size_; ++i) seen |= values_[i] != 0.0f;
-    return !seen;
+    uint32_t bits = 0;
+    for (size_t i = 0; i < size_; ++i) bits |= std::bit_cast<uint32_t>(values_[i]) << 1;
+    return bits == 0;
   }
 
  private:
