@@ -44,26 +44,11 @@ class SteeringSystem : public ActuatorSystem {
       if (!s.alive) continue;
       DriveState& d = *space.drive(s.robot.index);
       const double limit = max_speed_ > 0 ? std::min(max_speed_, d.max_speed) : d.max_speed;
-      // NaN commands stop the wheels rather than poisoning the state.
+      // NaN commands stop the wheels rather than poisoning the state; speeds
+      // beyond the limit run at it. Both say so once per robot (out of line:
+      // the check itself is inlined).
       auto clamp = [&](double v) {
-        if (!std::isfinite(v)) {
-          if (!s.warned_not_finite) {
-            s.warned_not_finite = true;
-            LogWarning("robot '" + space.id(s.robot.index) +
-                       "': differential_steering wheel speed is not a finite number; that wheel "
-                       "stops (said once per robot)");
-          }
-          return 0.0;
-        }
-        if (std::abs(v) <= limit) return v;
-        if (!s.warned_speed) {
-          s.warned_speed = true;
-          LogWarning("robot '" + space.id(s.robot.index) + "': differential_steering wheel speed " +
-                     FormatNumber(v) + " m/s is beyond the wheels' limit, " + FormatNumber(limit) +
-                     " m/s; the wheel runs at " + FormatNumber(std::clamp(v, -limit, limit)) +
-                     " m/s (said once per robot)");
-        }
-        return std::clamp(v, -limit, limit);
+        return std::abs(v) <= limit ? v : OutOfRange(s, space, v, limit);
       };
       // Without power (e.g. an empty battery) the wheels are commanded to stop.
       d.target_left = d.powered ? clamp(s.target_left()) : 0.0;
@@ -74,6 +59,29 @@ class SteeringSystem : public ActuatorSystem {
   }
 
  private:
+  // The speed a wheel runs at for a command `v` that is not within +-limit
+  // (or not a number), with the robot's warning the first time.
+  [[gnu::cold, gnu::noinline]] static double OutOfRange(SteeringInstance& s, const Space& space,
+                                                        double v, double limit) {
+    if (!std::isfinite(v)) {
+      if (!s.warned_not_finite) {
+        s.warned_not_finite = true;
+        LogWarning("robot '" + space.id(s.robot.index) +
+                   "': differential_steering wheel speed is not a finite number; that wheel "
+                   "stops (said once per robot)");
+      }
+      return 0.0;
+    }
+    if (!s.warned_speed) {
+      s.warned_speed = true;
+      LogWarning("robot '" + space.id(s.robot.index) + "': differential_steering wheel speed " +
+                 FormatNumber(v) + " m/s is beyond the wheels' limit, " + FormatNumber(limit) +
+                 " m/s; the wheel runs at " + FormatNumber(std::clamp(v, -limit, limit)) +
+                 " m/s (said once per robot)");
+    }
+    return std::clamp(v, -limit, limit);
+  }
+
   double max_speed_ = -1;
   double max_acceleration_ = 3.0;
   InstanceStore<SteeringInstance> instances_;
