@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <span>
 #include <utility>
@@ -29,9 +30,8 @@ namespace {
 // 24 x 4.
 struct ProximityRing {
   const RingMount* mount = nullptr;
-  // Unit vectors of the sensors in the robot frame, one per reading.
-  const Vec2* directions = nullptr;
-  // The same unit vectors, x and y apart (for the loop over all rays at once).
+  // Unit vectors of the sensors in the robot frame, one per reading, x and y
+  // apart (so that the loop over all rays at once vectorizes).
   std::vector<double> dx, dy;
   // The sensors' angles as the readings give them (rad, wrapped to (-pi, pi]).
   std::vector<float> angles;
@@ -205,8 +205,9 @@ class ProximitySystem : public SensorSystem {
       }
       const double yaw = YawOf(pose.orientation);
       const double cy = std::cos(yaw), sy = std::sin(yaw);
-      const Vec2* directions = p.ring->directions;
       const size_t count = values.size();
+      const double* dx = p.ring->dx.data();
+      const double* dy = p.ring->dy.data();
       // A ray lies on a line through the robot's axis: a footprint whose
       // bounding circle stays off that line, or wholly behind the ray's
       // origin, is not hit (the slack in `bound` is far above rounding, so
@@ -227,10 +228,8 @@ class ProximitySystem : public SensorSystem {
         // its origin), the least over targets: min and max only, so the
         // loop vectorizes. A ray is marked where that is <= 0 (for finite
         // numbers, a - b <= 0 exactly when a <= b).
-        const double* dx = p.ring->dx.data();
-        const double* dy = p.ring->dy.data();
         double excess[64];
-        std::fill(excess, excess + count, kNoHit);
+        std::fill(excess, excess + count, std::numeric_limits<double>::infinity());
         bool finite = true;
         for (const Target& t : targets) {
           const double lx = cy * t.offset.x() + sy * t.offset.y();
@@ -249,8 +248,7 @@ class ProximitySystem : public SensorSystem {
       }
       // The nearest hit of each marked ray, every other ray missing.
       auto cast = [&](size_t i) {
-        const Vec2& l = directions[i];
-        const Vec2 dir(cy * l.x() - sy * l.y(), sy * l.x() + cy * l.y());
+        const Vec2 dir(cy * dx[i] - sy * dy[i], sy * dx[i] + cy * dy[i]);
         const Vec2 origin = c + m.radius * dir;
         double best = kNoHit;
         for (const Target& t : targets) {
@@ -291,12 +289,12 @@ class ProximitySystem : public SensorSystem {
     }
     ProximityRing& ring = rings_.emplace_back();
     ring.mount = &mount;
-    ring.directions = directions_.Of(mount);
+    const Vec2* directions = directions_.Of(mount);
     ring.any_watch = &any_watch_;
     for (int i = 0; i < mount.count; ++i) {
       ring.angles.push_back(static_cast<float>(WrapAngle(mount.AngleOf(i))));
-      ring.dx.push_back(ring.directions[i].x());
-      ring.dy.push_back(ring.directions[i].y());
+      ring.dx.push_back(directions[i].x());
+      ring.dy.push_back(directions[i].y());
     }
     return ring;
   }
