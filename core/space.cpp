@@ -343,13 +343,21 @@ void Space::Gather(double x0, double y0, double x1, double y1, std::vector<uint3
   // A row's cells are one run of movable_items_: copied whole, with the size
   // grown once per row (a push_back per item reloads the vector's pointers,
   // which `out` could alias, at every item).
+  // The same rows' fixed entries are counted on the way (the two kinds'
+  // starts share their cache lines): the fixed ones' query below is a part
+  // of this one, so with none here it finds none and is skipped.
+  uint32_t fixed = 0;
   for (int cy = cy0; cy <= cy1; ++cy) {
     const size_t row = static_cast<size_t>(cy) * nx_;
-    const uint32_t begin = cell_start_[row + cx0].movable;
-    const uint32_t end = cell_start_[row + cx1 + 1].movable;
-    if (begin < end)
-      out.insert(out.end(), movable_items_.data() + begin, movable_items_.data() + end);
+    const CellStart& first = cell_start_[row + cx0];
+    const CellStart& last = cell_start_[row + cx1 + 1];
+    fixed += last.fixed - first.fixed;
+    if (first.movable < last.movable) {
+      out.insert(out.end(), movable_items_.data() + first.movable,
+                 movable_items_.data() + last.movable);
+    }
   }
+  if (fixed == 0) return;
   // Non-movable ones may sit in several cells: keep each once.
   const size_t first_static = out.size();
   const int sx0 = CellX(x0), sx1 = CellX(x1), sy0 = CellY(y0), sy1 = CellY(y1);

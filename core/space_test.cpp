@@ -268,6 +268,42 @@ TEST_F(core_test_space, WallsSpanningManyCellsAreFoundAlongTheirLengthOnce) {
   EXPECT_FALSE(HasSlot(middle, west.index));
 }
 
+TEST_F(core_test_space, GatherFindsEveryBoxAQueryTouchesAmongRobotsOnce) {
+  // Small boxes and robots (one large, so that movable queries are widened
+  // well beyond the boxes' cells) at random; queries of robot size anywhere.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> at(-4.8, 4.8), size(0.05, 0.6);
+  space.Add(Robot("big", robot_type, 0, 0, 0.4));
+  for (int i = 0; i < 200; ++i)
+    space.Add(Robot("r" + std::to_string(i), robot_type, at(rng), at(rng)));
+  struct Box {
+    uint32_t slot;
+    double x0, y0, x1, y1;
+  };
+  std::vector<Box> boxes;
+  for (int i = 0; i < 40; ++i) {
+    const double x = at(rng), y = at(rng), sx = size(rng), sy = size(rng);
+    const EntityHandle b = space.Add(Wall("b" + std::to_string(i), box_type, x, y, sx, sy));
+    boxes.push_back({b.index, x - sx / 2, y - sy / 2, x + sx / 2, y + sy / 2});
+  }
+  space.UpdateIndex();
+  for (int q = 0; q < 2000; ++q) {
+    const double x = at(rng), y = at(rng), half = 0.05 + 0.25 * (q % 5);
+    const auto hits = Gathered(space, x - half, y - half, x + half, y + half);
+    for (const Box& b : boxes) {
+      const bool overlaps =
+          b.x0 <= x + half && x - half <= b.x1 && b.y0 <= y + half && y - half <= b.y1;
+      const double cell = space.cell_size();
+      const bool far = b.x0 > x + half + cell || x - half - cell > b.x1 || b.y0 > y + half + cell ||
+                       y - half - cell > b.y1;
+      const auto count = std::count(hits.begin(), hits.end(), b.slot);
+      if (overlaps) EXPECT_EQ(count, 1) << "query " << q << " misses a box it touches";
+      if (far) EXPECT_EQ(count, 0) << "query " << q << " finds a box over a cell away";
+      EXPECT_LE(count, 1);
+    }
+  }
+}
+
 TEST_F(core_test_space, GatherSkipsNonSolidAndRemovedEntities) {
   Space::EntityInit ghost = Robot("ghost", robot_type, 0, 0);
   ghost.flags = kMovable;  // not solid
