@@ -12,6 +12,7 @@
 #include <mutex>
 #include <thread>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace colony {
@@ -35,6 +36,30 @@ class ChunkFn {
  private:
   void* object_;
   void (*call_)(void*, size_t, size_t);
+};
+
+// A thread's working memory for a chunk: the value kept for this thread
+// (by type and Tag) since its last chunk, so that a warm step does not
+// allocate, moved into this object for the chunk's length and back at its
+// end. Declare one at the top of a chunk. In a shared library every use of a
+// thread_local calls __tls_get_addr, and the compiler may repeat that call
+// where it could have kept the address: this object is a local.
+template <class T, class Tag = void>
+class ChunkScratch {
+ public:
+  ChunkScratch() : value_(std::move(Kept())) {}
+  ~ChunkScratch() { Kept() = std::move(value_); }
+  ChunkScratch(const ChunkScratch&) = delete;
+  ChunkScratch& operator=(const ChunkScratch&) = delete;
+  T& operator*() { return value_; }
+  T* operator->() { return &value_; }
+
+ private:
+  static T& Kept() {
+    static thread_local T kept;
+    return kept;
+  }
+  T value_;
 };
 
 class ThreadPool {

@@ -159,3 +159,33 @@ TEST(core_test_thread_pool, ResultsDoNotDependOnThreadCount) {
 
 }  // namespace
 }  // namespace colony
+
+namespace {
+struct OtherUser {};
+}  // namespace
+
+TEST(core_test_chunk_scratch, AThreadGetsBackWhatItsLastChunkLeftAndOthersStartEmpty) {
+  {
+    colony::ChunkScratch<std::vector<int>> first;
+    EXPECT_TRUE(first->empty());
+    first->assign(100, 7);
+  }
+  const int* kept = nullptr;
+  {
+    colony::ChunkScratch<std::vector<int>> second;
+    ASSERT_EQ(second->size(), 100u);  // no allocation: the same buffer
+    EXPECT_EQ((*second)[99], 7);
+    kept = second->data();
+  }
+  {
+    // Another user's kept value is its own.
+    colony::ChunkScratch<std::vector<int>, OtherUser> other;
+    EXPECT_TRUE(other->empty());
+  }
+  std::thread([] {
+    colony::ChunkScratch<std::vector<int>> elsewhere;
+    EXPECT_TRUE(elsewhere->empty()) << "another thread's chunk saw this thread's list";
+  }).join();
+  colony::ChunkScratch<std::vector<int>> again;
+  EXPECT_EQ(again->data(), kept);
+}

@@ -25,6 +25,7 @@
 
 #include "core/geometry2d.h"
 #include "core/simulation.h"
+#include "core/thread_pool.h"
 
 namespace colony {
 
@@ -139,10 +140,8 @@ class Kinematics2dEngine : public kinematics2d::Engine {
     // a later round, so later rounds retest just them: the same rounds, with
     // the same outcome, as retesting every robot.
     pool.ParallelFor(n, 128, [&](size_t b, size_t e) {
-      // This thread's list, kept from tick to tick so that a warm step does not
-      // allocate; taken once per chunk (a thread_local costs a lookup per use).
-      static thread_local std::vector<uint32_t> scratch;
-      std::vector<uint32_t>& near = scratch;
+      ChunkScratch<std::vector<uint32_t>, Kinematics2dEngine> scratch;  // no allocation once warm
+      std::vector<uint32_t>& near = *scratch;
       near.clear();
       near.reserve(64);  // once per thread: enough for any crowd seen so far
       for (size_t k = b; k < e; ++k) {

@@ -20,6 +20,7 @@
 #include "core/geometry2d.h"
 #include "core/sensor_events.h"
 #include "core/simulation.h"
+#include "core/thread_pool.h"
 #include "sensors/proximity/proximity.h"
 
 namespace colony {
@@ -106,13 +107,15 @@ class ProximitySystem : public SensorSystem {
   // readings are exactly those of casting every ray at every gathered entity.
   void Update(size_t begin, size_t end) override {
     const Space& space = sim().space();
-    // This thread's lists, kept from tick to tick so that a warm step does not
-    // allocate; taken once per chunk (a thread_local costs a lookup per use).
-    static thread_local std::vector<uint32_t> scratch, scratch_ahead;
-    static thread_local std::vector<Target> scratch_targets;
-    std::vector<uint32_t>* near_list = &scratch;
-    std::vector<uint32_t>* ahead = &scratch_ahead;
-    std::vector<Target>& targets = scratch_targets;
+    // This thread's lists (ChunkScratch: no allocation once warm).
+    struct Lists {
+      std::vector<uint32_t> near, ahead;
+      std::vector<Target> targets;
+    };
+    ChunkScratch<Lists, ProximitySystem> lists;
+    std::vector<uint32_t>* near_list = &lists->near;
+    std::vector<uint32_t>* ahead = &lists->ahead;
+    std::vector<Target>& targets = lists->targets;
     near_list->reserve(64);  // once per thread: enough for any crowd seen so far
     ahead->reserve(64);
     targets.reserve(64);

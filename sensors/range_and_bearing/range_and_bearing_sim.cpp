@@ -10,6 +10,7 @@
 
 #include "core/device.h"
 #include "core/simulation.h"
+#include "core/thread_pool.h"
 #include "media/fast_math.h"
 #include "media/occlusion.h"
 #include "media/range_and_bearing/range_and_bearing_medium.h"
@@ -48,8 +49,8 @@ class RabSensorSystem : public SensorSystem {
   size_t size() const override { return instances_.size(); }
 
   void Update(size_t begin, size_t end) override {
-    static thread_local Scratch thread_scratch;
-    Scratch& scratch = thread_scratch;  // one thread-local lookup per chunk
+    ChunkScratch<Scratch> chunk_scratch;  // this thread's (no allocation once warm)
+    Scratch& scratch = *chunk_scratch;
     const Space& space = sim().space();
     const RangeAndBearingMedium& medium = *medium_;
     const RangeAndBearingMedium::Message* messages = medium.messages();
