@@ -297,8 +297,12 @@ TEST_F(core_test_space, GatherFindsEveryBoxAQueryTouchesAmongRobotsOnce) {
       const bool far = b.x0 > x + half + cell || x - half - cell > b.x1 || b.y0 > y + half + cell ||
                        y - half - cell > b.y1;
       const auto count = std::count(hits.begin(), hits.end(), b.slot);
-      if (overlaps) EXPECT_EQ(count, 1) << "query " << q << " misses a box it touches";
-      if (far) EXPECT_EQ(count, 0) << "query " << q << " finds a box over a cell away";
+      if (overlaps) {
+        EXPECT_EQ(count, 1) << "query " << q << " misses a box it touches";
+      }
+      if (far) {
+        EXPECT_EQ(count, 0) << "query " << q << " finds a box over a cell away";
+      }
       EXPECT_LE(count, 1);
     }
   }
