@@ -138,7 +138,10 @@ class Params {
     mutable std::optional<double> number;  // the value as a finite number, once parsed
   };
   const Entry* Find(std::string_view key) const;
-  void NoteDefault(std::string_view key, std::string text, Default::Kind kind) const;
+  // Notes the default of `key` the first time it is asked for; text() makes
+  // its text only then (every robot of a controller asks).
+  template <class Text>
+  void NoteDefault(std::string_view key, Default::Kind kind, Text&& text) const;
   std::vector<Entry> entries_;
   mutable std::vector<std::string> asked_;
   mutable std::vector<Default> defaults_;

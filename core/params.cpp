@@ -31,10 +31,11 @@ const Params::Entry* Params::Find(std::string_view key) const {
   return nullptr;
 }
 
-void Params::NoteDefault(std::string_view key, std::string text, Default::Kind kind) const {
+template <class Text>
+void Params::NoteDefault(std::string_view key, Default::Kind kind, Text&& text) const {
   for (const auto& d : defaults_)
     if (d.key == key) return;
-  defaults_.push_back({std::string(key), std::move(text), kind});
+  defaults_.push_back({std::string(key), std::string(text()), kind});
 }
 
 // Shortest text that reads back as `v`.
@@ -46,13 +47,13 @@ static std::string NumberText(double v) {
 bool Params::Has(std::string_view key) const { return Find(key) != nullptr; }
 
 std::string Params::GetString(std::string_view key, std::string_view fallback) const {
-  NoteDefault(key, std::string(fallback), Default::kText);
+  NoteDefault(key, Default::kText, [&] { return fallback; });
   const Entry* e = Find(key);
   return e ? e->value : std::string(fallback);
 }
 
 std::string Params::GetString(std::string_view key) const {
-  NoteDefault(key, "", Default::kRequired);
+  NoteDefault(key, Default::kRequired, [] { return ""; });
   const Entry* e = Find(key);
   if (!e)
     throw ParamError(std::string(key), "",
@@ -78,7 +79,7 @@ static double ParseDouble(const std::string& key, const std::string& text, doubl
 }
 
 double Params::GetDouble(std::string_view key, double fallback, double min, double max) const {
-  NoteDefault(key, NumberText(fallback), Default::kNumber);
+  NoteDefault(key, Default::kNumber, [&] { return NumberText(fallback); });
   const Entry* e = Find(key);
   if (!e) return fallback;
   // Every robot of a controller reads the same parameters: the text is
@@ -89,13 +90,13 @@ double Params::GetDouble(std::string_view key, double fallback, double min, doub
 }
 
 double Params::GetDouble(std::string_view key) const {
-  NoteDefault(key, "", Default::kRequired);
+  NoteDefault(key, Default::kRequired, [] { return ""; });
   return ParseDouble(std::string(key), GetString(key), -1e300, 1e300);
 }
 
 std::vector<double> Params::GetNumbers(std::string_view key, std::string_view fallback,
                                        size_t count, double min, double max) const {
-  NoteDefault(key, std::string(fallback), Default::kText);
+  NoteDefault(key, Default::kText, [&] { return fallback; });
   const Entry* e = Find(key);
   const std::string name(key);
   const std::string text = e ? e->value : std::string(fallback);
@@ -119,7 +120,7 @@ std::vector<double> Params::GetNumbers(std::string_view key, std::string_view fa
 }
 
 int64_t Params::GetInt(std::string_view key, int64_t fallback, int64_t min, int64_t max) const {
-  NoteDefault(key, std::to_string(fallback), Default::kNumber);
+  NoteDefault(key, Default::kNumber, [&] { return std::to_string(fallback); });
   const Entry* e = Find(key);
   if (!e) return fallback;
   const char* begin = e->value.c_str();
@@ -139,7 +140,7 @@ int64_t Params::GetInt(std::string_view key, int64_t fallback, int64_t min, int6
 }
 
 bool Params::GetBool(std::string_view key, bool fallback) const {
-  NoteDefault(key, fallback ? "true" : "false", Default::kText);
+  NoteDefault(key, Default::kText, [&] { return fallback ? "true" : "false"; });
   const Entry* e = Find(key);
   if (!e) return fallback;
   if (e->value == "true" || e->value == "1") return true;
