@@ -12,6 +12,7 @@
 #include "core/device.h"
 #include "core/geometry3d.h"
 #include "core/simulation.h"
+#include "core/thread_pool.h"
 #include "sensors/eyebot_altitude/eyebot_altitude.h"
 
 namespace colony {
@@ -42,8 +43,8 @@ class EyebotAltitudeSystem : public SensorSystem {
   void Update(size_t begin, size_t end) override {
     const Space& space = sim().space();
     const Vec3 down(0, 0, -1);
-    static thread_local std::vector<uint32_t> scratch;  // no allocation once warmed up
-    std::vector<uint32_t>& near = scratch;
+    ChunkScratch<std::vector<uint32_t>> scratch;  // this thread's list (no allocation once warm)
+    std::vector<uint32_t>& near = *scratch;
     for (size_t k = begin; k < end; ++k) {
       AltitudeInstance& a = instances_[k];
       if (!a.alive) continue;

@@ -12,6 +12,7 @@
 #include "core/device.h"
 #include "core/drawing.h"
 #include "core/simulation.h"
+#include "core/thread_pool.h"
 #include "entities/eyebot/eyebot.h"
 #include "media/fast_math.h"
 #include "media/led/led_medium.h"
@@ -77,8 +78,8 @@ class PanTiltCameraSystem : public SensorSystem {
   size_t size() const override { return instances_.size(); }
 
   void Update(size_t begin, size_t end) override {
-    static thread_local Scratch thread_scratch;
-    Scratch& scratch = thread_scratch;
+    ChunkScratch<Scratch> chunk_scratch;  // this thread's (no allocation once warm)
+    Scratch& scratch = *chunk_scratch;
     const Space& space = sim().space();
     const LedMedium& medium = *medium_;
     const auto& leds = medium.leds();

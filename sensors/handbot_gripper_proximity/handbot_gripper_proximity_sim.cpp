@@ -24,6 +24,7 @@
 #include "core/geometry3d.h"
 #include "core/noise.h"
 #include "core/simulation.h"
+#include "core/thread_pool.h"
 #include "sensors/handbot_gripper_proximity/handbot_gripper_proximity.h"
 
 namespace colony {
@@ -93,10 +94,8 @@ class GripperIrSystem : public SensorSystem {
   void Update(size_t begin, size_t end) override {
     const Space& space = sim().space();
     const double floor_z = space.arena_min().z();
-    // This thread's list, kept from tick to tick so that a warm step does not
-    // allocate; taken once per chunk (a thread_local costs a lookup per use).
-    static thread_local std::vector<uint32_t> scratch;
-    std::vector<uint32_t>& near = scratch;
+    ChunkScratch<std::vector<uint32_t>> scratch;  // this thread's list (no allocation once warm)
+    std::vector<uint32_t>& near = *scratch;
     near.clear();
     near.reserve(64);  // once per thread: enough for any crowd seen so far
     for (size_t k = begin; k < end; ++k) {

@@ -19,6 +19,7 @@
 #include "core/entity_type.h"
 #include "core/geometry2d.h"
 #include "core/simulation.h"
+#include "core/thread_pool.h"
 #include "sensors/light/light.h"
 
 namespace colony {
@@ -77,10 +78,8 @@ class LightSystem : public SensorSystem {
   void Update(size_t begin, size_t end) override {
     const Space& space = sim().space();
     const LightScene& scene = SceneOfThisTick();
-    // This thread's list, kept from tick to tick so that a warm step does not
-    // allocate; taken once per chunk (a thread_local costs a lookup per use).
-    static thread_local std::vector<uint32_t> scratch;
-    std::vector<uint32_t>& near = scratch;
+    ChunkScratch<std::vector<uint32_t>> scratch;  // this thread's list (no allocation once warm)
+    std::vector<uint32_t>& near = *scratch;
     near.clear();
     near.reserve(64);  // once per thread: enough for any crowd seen so far
     for (size_t k = begin; k < end; ++k) {

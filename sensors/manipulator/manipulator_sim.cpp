@@ -26,6 +26,7 @@
 #include "core/device.h"
 #include "core/geometry2d.h"
 #include "core/simulation.h"
+#include "core/thread_pool.h"
 #include "entities/marxbot/marxbot.h"
 #include "sensors/manipulator/manipulator.h"
 
@@ -110,10 +111,8 @@ class ManipulatorSensorSystem : public SensorSystem {
   // survives.
   void Update(size_t begin, size_t end) override {
     const Space& space = sim().space();
-    // This thread's list, kept from tick to tick so that a warm step does not
-    // allocate; taken once per chunk (a thread_local costs a lookup per use).
-    static thread_local std::vector<uint32_t> scratch;
-    std::vector<uint32_t>& near = scratch;
+    ChunkScratch<std::vector<uint32_t>> scratch;  // this thread's list (no allocation once warm)
+    std::vector<uint32_t>& near = *scratch;
     near.clear();
     near.reserve(64);  // once per thread: enough for any crowd seen so far
     for (size_t k = begin; k < end; ++k) {

@@ -11,6 +11,7 @@
 #include "core/device.h"
 #include "core/drawing.h"
 #include "core/simulation.h"
+#include "core/thread_pool.h"
 #include "media/fast_math.h"
 #include "media/led/led_medium.h"
 #include "media/occlusion.h"
@@ -67,8 +68,8 @@ class CameraSystem : public SensorSystem {
   size_t size() const override { return instances_.size(); }
 
   void Update(size_t begin, size_t end) override {
-    static thread_local Scratch thread_scratch;
-    Scratch& scratch = thread_scratch;  // one thread-local lookup per chunk
+    ChunkScratch<Scratch> chunk_scratch;  // this thread's (no allocation once warm)
+    Scratch& scratch = *chunk_scratch;
     const Space& space = sim().space();
     const LedMedium& medium = *medium_;
     const auto& leds = medium.leds();
