@@ -292,12 +292,12 @@ class ProximitySystem : public SensorSystem {
     }
     ProximityRing& ring = rings_.emplace_back();
     ring.mount = &mount;
-    const Vec2* directions = directions_.Of(mount);
     ring.any_watch = &any_watch_;
     for (int i = 0; i < mount.count; ++i) {
-      ring.angles.push_back(static_cast<float>(WrapAngle(mount.AngleOf(i))));
-      ring.dx.push_back(directions[i].x());
-      ring.dy.push_back(directions[i].y());
+      const double a = mount.AngleOf(i);
+      ring.angles.push_back(static_cast<float>(WrapAngle(a)));
+      ring.dx.push_back(std::cos(a));
+      ring.dy.push_back(std::sin(a));
     }
     return ring;
   }
@@ -319,7 +319,6 @@ class ProximitySystem : public SensorSystem {
   ArrayBlocks<float> values_;
   // One stream per instance, in the same order, only with noise.
   std::deque<RandomStream> streams_;
-  RingDirections directions_;        // per ring mount (one per robot type)
   std::deque<ProximityRing> rings_;  // per ring mount; a deque keeps them in place
   std::atomic<bool> any_watch_{false};
 };
