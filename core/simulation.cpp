@@ -108,8 +108,10 @@ void Simulation::AttachController(Robot& robot, int line) {
   const std::string& type = space_.TypeLabel(space_.type(robot.entity.index));
   bool attached = true;
   // What the devices need of the robot and its engine, checked here for
-  // every device (and again in Migrate).
+  // every device (and again in Migrate), unless robots like it passed.
+  const bool fits = DevicesKnownToFit(robot);
   auto component_problem = [&](auto* system) -> std::string {
+    if (fits) return {};
     return ComponentProblem(robot.entity.index, system->NeededComponents(), EngineOf(robot.entity),
                             true);
   };
@@ -142,6 +144,18 @@ void Simulation::AttachController(Robot& robot, int line) {
   if (!attached) {
     context_->diagnostics.ThrowIfAny();
   }
+  if (!fits) {
+    if (config.needs.empty()) {
+      auto add = [&](auto* system) {
+        std::vector<ComponentType>& types = config.needs.emplace_back();
+        for (const std::string& name : system->NeededComponents())
+          types.push_back(ComponentTypeNamed(name));
+      };
+      for (size_t i = 0; i < ns; ++i) add(config.sensors[i]);
+      for (size_t i = 0; i < na; ++i) add(config.actuators[i]);
+    }
+    config.needs_simulated.emplace_back(EngineOf(robot.entity), space_.type(robot.entity.index));
+  }
   DeviceTable table;
   table.robot_id = &id;
   table.sensors = robot.sensors;
@@ -169,12 +183,16 @@ void Simulation::AttachController(Robot& robot, int line) {
       context_->diagnostics.ThrowIfAny();
     }
   }
-  const ConfigNode params = config.node.Child("params");
-  const ConfigNode& at = params.valid() ? params : config.node;
+  // Where a parameter's error points: <params>, else the controller's element
+  // (looked up only for an error).
+  auto params_node = [&config] {
+    const ConfigNode params = config.node.Child("params");
+    return params.valid() ? params : config.node;
+  };
   try {
     robot.controller->Init(config.params);
   } catch (const ParamError& e) {
-    at.Error(e.key(), e.value(), e.what());
+    params_node().Error(e.key(), e.value(), e.what());
     context_->diagnostics.ThrowIfAny();
   } catch (const std::exception& e) {
     config.node.ElementError("controller '" + config.label + "' failed to start on robot '" + id +
@@ -204,7 +222,7 @@ void Simulation::AttachController(Robot& robot, int line) {
       std::string list;
       for (size_t i = 0; i < asked.size(); ++i) list += (i ? ", " : "") + asked[i];
       if (!list.empty()) message += "; it reads: " + list;
-      at.Error(key, config.params.GetString(key, ""), message);
+      params_node().Error(key, config.params.GetString(key, ""), message);
     }
     context_->diagnostics.ThrowIfAny();
   }
@@ -213,7 +231,7 @@ void Simulation::AttachController(Robot& robot, int line) {
     try {
       config.batch = robot.controller->NewBatch();
     } catch (const ParamError& e) {
-      at.Error(e.key(), e.value(), e.what());
+      params_node().Error(e.key(), e.value(), e.what());
       context_->diagnostics.ThrowIfAny();
     } catch (const std::exception& e) {
       config.node.ElementError("controller '" + config.label + "' failed to start: " + e.what());
@@ -376,6 +394,22 @@ void Simulation::CheckDevicesCanMigrate(uint32_t slot, const PhysicsEngine& from
   for (size_t i = 0; i < config.actuators.size(); ++i) {
     check("actuator", config.actuator_labels[i], config.actuators[i]->NeededComponents());
   }
+}
+
+bool Simulation::DevicesKnownToFit(const Robot& robot) const {
+  const ControllerConfig& config = *robot.config;
+  const uint32_t slot = robot.entity.index;
+  const std::pair<const PhysicsEngine*, uint16_t> key(EngineOf(robot.entity), space_.type(slot));
+  if (std::find(config.needs_simulated.begin(), config.needs_simulated.end(), key) ==
+      config.needs_simulated.end()) {
+    return false;
+  }
+  for (const auto& types : config.needs) {
+    for (ComponentType t : types) {
+      if (!space_.Has(slot, t)) return false;
+    }
+  }
+  return true;
 }
 
 std::string Simulation::ComponentProblem(uint32_t slot, const std::vector<std::string>& needed,

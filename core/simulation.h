@@ -267,6 +267,13 @@ class Simulation {
     std::vector<ActuatorSystem*> actuators;
     std::vector<ConfigNode> sensor_nodes, actuator_nodes;
     bool params_checked = false;
+    // What its devices need (NeededComponents, sensors then actuators, as
+    // component types), filled when a robot first passed ComponentProblem
+    // for all of them, and the (engine, entity type) pairs whose model
+    // simulated all of that: a robot of such a pair that carries those
+    // components needs no other check (AttachController).
+    std::vector<std::vector<ComponentType>> needs;
+    std::vector<std::pair<const PhysicsEngine*, uint16_t>> needs_simulated;
     // Controller::NewBatch of its first controller (null: none, or not
     // asked yet), stepped by SenseAndControl with `members`, its controllers
     // alive now in the order of their slots (kept to step without allocating).
@@ -370,6 +377,9 @@ class Simulation {
   std::string ComponentProblem(uint32_t slot, const std::vector<std::string>& needed,
                                const PhysicsEngine* engine, bool attaching) const;
   void AttachController(Robot& robot, int line);
+  // Whether the robot's devices are known to work on it (ControllerConfig::
+  // needs); false means "check them".
+  bool DevicesKnownToFit(const Robot& robot) const;
   // The sampling periods and bus flags of a configuration's sensors and its
   // rate (docs/events.md), read from their elements.
   void ReadTiming(ControllerConfig& config);

@@ -368,6 +368,16 @@ TEST(ManipulatorSensor, RobotsAndEnginesThatCannotCarryItAreRejected) {
                         "manipulator_sensor_double"});
 }
 
+// The check is made for each robot, not once per controller: a robot
+// without the arm after one with it is rejected by name.
+TEST(ManipulatorSensor, ARobotWithoutTheArmIsRejectedAfterOneWithIt) {
+  const std::string second = LoadError(Experiment(
+      Robot("a", "-1,0,0") + Robot("b", "1,0,0", 0, false), Controllers(), "4,4,1", "", kDouble));
+  ExpectMentions(second, {"<manipulator>: robot 'b' (a marxbot", "cannot carry this sensor",
+                          "declare the marxbot with manipulator=\"true\""});
+  EXPECT_EQ(second.find("robot 'a'"), std::string::npos) << second;
+}
+
 TEST(ManipulatorSensor, BadAttributesAreReportedWithElementAndLine) {
   auto error = [](const std::string& attributes) {
     return LoadError(
