@@ -77,7 +77,10 @@ class PhysicsEngine : public NamedSimulationBound {
 
   // The region it simulates; none: the whole arena.
   const std::optional<Region>& region() const { return region_; }
-  void SetRegion(Region region) { region_ = std::move(region); }
+  void SetRegion(Region region) {
+    region_ = std::move(region);
+    box_ = region_->AxisAlignedBox(box_lo_, box_hi_);
+  }
   // The entity types it takes (entities="eyebot"): every movable entity of
   // these types, wherever it is (such an engine has no region), is its own
   // and no other engine's, and it takes no movable entity of another type
@@ -86,7 +89,10 @@ class PhysicsEngine : public NamedSimulationBound {
   const std::vector<std::string>& entity_types() const { return entity_types_; }
   bool takes_types() const { return !entity_types_.empty(); }
   void SetEntityTypes(std::vector<std::string> types) { entity_types_ = std::move(types); }
-  bool Holds(const Vec3& p) const { return !region_ || region_->Contains(p); }
+  bool Holds(const Vec3& p) const {
+    if (!region_) return true;
+    return box_ ? region_->BoxContains(box_lo_, box_hi_, p) : region_->Contains(p);
+  }
   // Whether entity slot `s` is one of this engine's (set by the host).
   bool Owns(uint32_t s) const { return s < owned_.size() && owned_[s]; }
   void SetOwned(uint32_t s, bool owned) {
@@ -96,6 +102,10 @@ class PhysicsEngine : public NamedSimulationBound {
 
  private:
   std::optional<Region> region_;
+  // Whether the region is an axis-aligned rectangle (Region::AxisAlignedBox),
+  // and its corners: Holds is then four comparisons.
+  bool box_ = false;
+  Vec2 box_lo_, box_hi_;
   std::vector<std::string> entity_types_;
   std::vector<uint8_t> owned_;  // per space slot
 };

@@ -48,6 +48,24 @@ bool Region::Contains(const Vec3& p) const {
   return p.z() >= bottom && p.z() < top && Inside2d(vertices, p.head<2>());
 }
 
+bool Region::AxisAlignedBox(Vec2& lo, Vec2& hi) const {
+  if (vertices.size() != 4) return false;
+  lo = hi = vertices[0];
+  for (const Vec2& v : vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  if (!(lo.x() < hi.x() && lo.y() < hi.y())) return false;
+  // Every vertex a corner, every side along an axis (so not a bow tie).
+  for (size_t i = 0, j = 3; i < 4; j = i++) {
+    const Vec2& a = vertices[j];
+    const Vec2& b = vertices[i];
+    if ((a.x() != lo.x() && a.x() != hi.x()) || (a.y() != lo.y() && a.y() != hi.y())) return false;
+    if ((a.x() == b.x()) == (a.y() == b.y())) return false;
+  }
+  return true;
+}
+
 bool Region::Touches(const Vec2& center, const Vec2& half, double z0, double z1) const {
   if (z1 < bottom || z0 >= top) return false;
   const Vec2 lo = center - half, hi = center + half;

@@ -28,6 +28,15 @@ struct Region {
   std::string Problem() const;
   // Whether two regions share interior (sharing sides does not count).
   bool Overlaps(const Region& other) const;
+  // Whether the polygon is a rectangle with sides along the axes, and then
+  // its corners: Contains is then exactly lo <= p < hi in x and y (and the
+  // heights), which is what the crossing-number rule gives for it.
+  bool AxisAlignedBox(Vec2& lo, Vec2& hi) const;
+  // Contains for such a rectangle, with the corners AxisAlignedBox gave.
+  bool BoxContains(const Vec2& lo, const Vec2& hi, const Vec3& p) const {
+    return p.z() >= bottom && p.z() < top && p.x() >= lo.x() && p.x() < hi.x() && p.y() >= lo.y() &&
+           p.y() < hi.y();
+  }
 };
 
 }  // namespace colony

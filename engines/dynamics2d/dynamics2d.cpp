@@ -12,6 +12,7 @@
 #include "engines/dynamics2d/dynamics2d.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -64,27 +65,43 @@ uint32_t Engine::MovableAt(const b2Vec2& p, const b2Body* self) {
 void Treels::Add(Engine& engine, uint32_t s) {
   engine.BodyOf(s)->SetSleepingAllowed(false);
   slots_.push_back(s);
+  headings_.emplace_back();
 }
 
 void Treels::Remove(uint32_t s) {
   auto it = std::find(slots_.begin(), slots_.end(), s);
-  if (it != slots_.end()) slots_.erase(it);
+  if (it == slots_.end()) return;
+  headings_.erase(headings_.begin() + (it - slots_.begin()));
+  slots_.erase(it);
+}
+
+const Treels::Heading& Treels::HeadingOf(size_t k, float angle) {
+  Heading& h = headings_[k];
+  const uint32_t bits = std::bit_cast<uint32_t>(angle);
+  if (!h.known || bits != h.angle_bits) {
+    h.known = true;
+    h.angle_bits = bits;
+    h.cos = std::cos(static_cast<double>(angle));
+    h.sin = std::sin(static_cast<double>(angle));
+  }
+  return h;
 }
 
 void Treels::Drive(Engine& engine, double h) {
   const Space& space = engine.entities();
   const double max_force = engine.params().robot_max_force;
   const double max_torque = engine.params().robot_max_torque;
-  for (uint32_t s : slots_) {
+  for (size_t k = 0; k < slots_.size(); ++k) {
+    const uint32_t s = slots_[k];
     b2Body* body = engine.BodyOf(s);
     const DriveState& d = *space.drive(s);
     const double v = 0.5 * (d.left + d.right);
     const double w = (d.right - d.left) / d.wheel_base;
-    const double angle = body->GetAngle();
+    const Heading& heading = HeadingOf(k, body->GetAngle());
     const b2Vec2 vel = body->GetLinearVelocity();
     const double m = body->GetMass();
-    double fx = m * (v * std::cos(angle) - vel.x) / h;
-    double fy = m * (v * std::sin(angle) - vel.y) / h;
+    double fx = m * (v * heading.cos - vel.x) / h;
+    double fy = m * (v * heading.sin - vel.y) / h;
     // Most robots push far below the limit: the square, with room for its
     // rounding, settles those without the (slow, exact) hypot.
     if (fx * fx + fy * fy > max_force * max_force * (1 - 1e-9)) {
@@ -103,14 +120,15 @@ void Treels::Drive(Engine& engine, double h) {
 
 void Treels::WriteOdometry(Engine& engine, double dt) {
   Space& space = engine.entities();
-  for (uint32_t s : slots_) {
+  for (size_t k = 0; k < slots_.size(); ++k) {
+    const uint32_t s = slots_[k];
     const b2Body* body = engine.BodyOf(s);
     const b2Vec2 v = body->GetLinearVelocity();
-    const double angle = body->GetAngle();
+    const Heading& heading = HeadingOf(k, body->GetAngle());
     const double w = body->GetAngularVelocity();
     // What the treels really did: forwards speed and turn rate of the body.
     DriveState& d = *space.drive(s);
-    const double forward = v.x * std::cos(angle) + v.y * std::sin(angle);
+    const double forward = v.x * heading.cos + v.y * heading.sin;
     d.travelled_left = (forward - 0.5 * w * d.wheel_base) * dt;
     d.travelled_right = (forward + 0.5 * w * d.wheel_base) * dt;
   }

@@ -91,7 +91,18 @@ class Treels {
   const std::vector<uint32_t>& slots() const { return slots_; }
 
  private:
-  std::vector<uint32_t> slots_;  // in the order they came
+  // The cosine and sine of a body's angle (Box2D's float, by its bits): the
+  // odometry's at the end of a tick are the drive's at the start of the
+  // next, when the body was not moved in between.
+  struct Heading {
+    bool known = false;
+    uint32_t angle_bits = 0;
+    double cos = 0, sin = 0;
+  };
+  const Heading& HeadingOf(size_t k, float angle);
+
+  std::vector<uint32_t> slots_;    // in the order they came
+  std::vector<Heading> headings_;  // per slot of slots_
 };
 
 // A gripper that welds the thing in front of its jaws (a movable object,
