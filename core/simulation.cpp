@@ -144,7 +144,7 @@ void Simulation::AttachController(Robot& robot, int line) {
   if (!attached) {
     context_->diagnostics.ThrowIfAny();
   }
-  if (!fits) {
+  if (!fits && attached) {
     if (config.needs.empty()) {
       auto add = [&](auto* system) {
         std::vector<ComponentType>& types = config.needs.emplace_back();
