@@ -17,13 +17,26 @@ Region Polygon(std::vector<Vec2> vertices) {
   return r;
 }
 
+// Values of one coordinate to test a box [lo, hi) with: its ends, the
+// numbers just below them, both zeros, the infinities and NaN.
+std::vector<double> Probes(double lo, double hi) {
+  const double inf = std::numeric_limits<double>::infinity();
+  return {lo,
+          hi,
+          0.0,
+          -0.0,
+          inf,
+          -inf,
+          std::numeric_limits<double>::quiet_NaN(),
+          std::nextafter(lo, -inf),
+          std::nextafter(hi, -inf)};
+}
+
 // The engines test an axis-aligned rectangle with four comparisons
 // (PhysicsEngine::Holds): it must say what the crossing-number rule says for
 // every point, those on the sides and corners included, whichever corner the
 // polygon starts at.
 TEST(Region, ABoxContainsExactlyWhatTheCrossingRuleContains) {
-  const double inf = std::numeric_limits<double>::infinity();
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::vector<std::vector<Vec2>> rectangles = {
       {{-5, -5}, {0, -5}, {0, 0}, {-5, 0}},
       {{0, -5}, {5, -5}, {5, 0}, {0, 0}},
@@ -39,24 +52,8 @@ TEST(Region, ABoxContainsExactlyWhatTheCrossingRuleContains) {
       region.top = 1;
       Vec2 lo, hi;
       ASSERT_TRUE(region.AxisAlignedBox(lo, hi));
-      std::vector<double> xs = {lo.x(),
-                                hi.x(),
-                                0.0,
-                                -0.0,
-                                inf,
-                                -inf,
-                                nan,
-                                std::nextafter(lo.x(), -inf),
-                                std::nextafter(hi.x(), -inf)};
-      std::vector<double> ys = {lo.y(),
-                                hi.y(),
-                                0.0,
-                                -0.0,
-                                inf,
-                                -inf,
-                                nan,
-                                std::nextafter(lo.y(), -inf),
-                                std::nextafter(hi.y(), -inf)};
+      std::vector<double> xs = Probes(lo.x(), hi.x());
+      std::vector<double> ys = Probes(lo.y(), hi.y());
       for (int k = 0; k < 200; ++k) {
         xs.push_back(rng.Uniform(lo.x() - 1, hi.x() + 1));
         ys.push_back(rng.Uniform(lo.y() - 1, hi.y() + 1));
