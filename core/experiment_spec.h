@@ -133,8 +133,9 @@ struct DistributeSpec {
   int64_t base_num = 0;      // entity i gets the id entity.init.id + (base_num + i)
   // order="drawn" (the default): entity i is the i-th drawn. order="place":
   // the entities are numbered, and so stored, in the order of their places
-  // along a Z-order curve over the arena, so that robots near each other on
-  // the floor are near each other in memory (PlaceDistributed).
+  // row by row over the arena (rows as wide as the space's grid cells), so
+  // that robots near each other on the floor are near each other in memory,
+  // in the order the space's grid lists them (PlaceDistributed).
   bool order_by_place = false;
   EntityDesc entity;  // the template: its id is the ids' prefix; its pose is replaced by the draws
   int line = 0;       // of <distribute>; it also names the block's random stream

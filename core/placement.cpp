@@ -247,30 +247,16 @@ Vec3 Draw(const DistributeDraw& draw, RandomStream& rng, size_t index) {
   return Vec3(unit(a[0]), unit(a[1]), unit(a[2]));
 }
 
-namespace {
-
-// x spread over the even bits of a 64-bit word.
-uint64_t SpreadBits(uint64_t x) {
-  x &= 0xffffffffu;
-  x = (x | x << 16) & 0x0000ffff0000ffffu;
-  x = (x | x << 8) & 0x00ff00ff00ff00ffu;
-  x = (x | x << 4) & 0x0f0f0f0f0f0f0f0fu;
-  x = (x | x << 2) & 0x3333333333333333u;
-  x = (x | x << 1) & 0x5555555555555555u;
-  return x;
-}
-
-}  // namespace
-
-uint64_t ZOrderKey(const Vec3& p, const Vec3& lo, const Vec3& hi) {
-  constexpr double kSteps = 2147483648.0;  // 2^31 along each side
-  auto step = [&](int c) {
-    const double extent = hi[c] - lo[c];
-    const double t = extent > 0 ? (p[c] - lo[c]) / extent : 0;
-    // Places are inside the arena; the bounds only keep a key in range.
-    return static_cast<uint64_t>(std::clamp(t * kSteps, 0.0, kSteps - 1));
-  };
-  return SpreadBits(step(0)) | SpreadBits(step(1)) << 1;
+uint64_t RowKey(const Vec3& p, const Vec3& lo, const Vec3& hi, double cell) {
+  const double wx = hi.x() - lo.x(), wy = hi.y() - lo.y();
+  // The row as the space's grid computes it (Space::CellY), if its cells
+  // are `cell` wide.
+  const int rows = std::max(1, static_cast<int>(std::ceil(wy / cell)));
+  const auto row = static_cast<uint64_t>(ClampedCellIndex((p.y() - lo.y()) * (1.0 / cell), rows));
+  constexpr double kSteps = 2147483648.0;  // 2^31 along x
+  const double t = wx > 0 ? (p.x() - lo.x()) / wx : 0;
+  // Places are inside the arena; the bounds only keep a key in range.
+  return row << 32 | static_cast<uint64_t>(std::clamp(t * kSteps, 0.0, kSteps - 1));
 }
 
 void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::string& file,
@@ -325,10 +311,14 @@ void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::str
   }
   if (!block.order_by_place) return;
   auto pose = [&](uint32_t k) -> const Pose& { return solid ? index.PendingPose(k) : drawn[k]; };
-  // Ties (the same place) keep the order drawn.
+  // Rows as wide as the space's grid cells for this block's entities, so
+  // that the entities' order in memory is the order of the space's
+  // cell-by-cell index (which engines and sensors walk) as far as they fill
+  // the cells alone. Ties (the same place) keep the order drawn.
+  const double cell = Space::GridCellSize(block.entity.init.geometry.BoundingRadius());
   std::vector<std::pair<uint64_t, uint32_t>> order(static_cast<size_t>(block.quantity));
   for (uint32_t k = 0; k < order.size(); ++k)
-    order[k] = {ZOrderKey(pose(k).position, space.arena_min(), space.arena_max()), k};
+    order[k] = {RowKey(pose(k).position, space.arena_min(), space.arena_max(), cell), k};
   std::sort(order.begin(), order.end());
   constexpr size_t kAhead = 8;
   std::string next_id = id_of(0);

@@ -129,18 +129,18 @@ Vec3 Draw(const DistributeDraw& draw, RandomStream& rng, size_t index);
 // ones are filed here). Entity i gets the template's id followed by
 // base_num + i: with order="drawn" it is the i-th drawn and added, each as
 // soon as it is drawn; with order="place" the whole block is drawn first,
-// then numbered and added in the order of its places along a Z-order curve
-// over the arena (ZOrderKey). Stops at the first entity that finds no place
-// in max_trials draws, recorded in `diagnostics` against `file`, or that
-// `add` refuses (returns an invalid handle: it recorded why).
+// then numbered and added in the order of its places row by row over the
+// arena, rows as wide as the space's grid cells (RowKey). Stops at the first entity that finds no
+// place in max_trials draws, recorded in `diagnostics` against `file`, or that `add` refuses
+// (returns an invalid handle: it recorded why).
 void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::string& file,
                       const Space& space, PlacementIndex& index,
                       const std::function<EntityHandle(const EntityDesc&)>& add,
                       Diagnostics& diagnostics);
 
-// The place of `p` along a Z-order (Morton) curve over the box [lo, hi] of
-// the floor: x and y in 2^31 steps each, their bits interleaved. Points near
-// each other mostly have keys near each other.
-uint64_t ZOrderKey(const Vec3& p, const Vec3& lo, const Vec3& hi);
+// The place of `p` in rows of the floor [lo, hi] `cell` wide along y (rows
+// as the space's grid cuts them with cells of that size), then along x in
+// 2^31 steps: rows in order, each from low x to high x.
+uint64_t RowKey(const Vec3& p, const Vec3& lo, const Vec3& hi, double cell);
 
 }  // namespace colony

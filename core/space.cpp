@@ -213,8 +213,8 @@ void Space::ConfigureGrid() {
   // neighbour query then touches a handful of cells. Over a huge arena they
   // grow, so that the table stays within GridCellCap (core/bounds.h).
   const Vec3 extent = arena_max_ - arena_min_;
-  const double cell = CappedCellSize(
-      extent.x(), extent.y(), std::max(0.5, 2.0 * max_movable_radius_), GridCellCap(alive_count_));
+  const double cell = CappedCellSize(extent.x(), extent.y(), GridCellSize(max_movable_radius_),
+                                     GridCellCap(alive_count_));
   const int nx = std::max(1, static_cast<int>(std::ceil(extent.x() / cell)));
   const int ny = std::max(1, static_cast<int>(std::ceil(extent.y() / cell)));
   if (cell == cell_ && nx == nx_ && ny == ny_ && !cell_start_.empty()) return;

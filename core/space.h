@@ -204,6 +204,12 @@ class Space {
   void SetArena(const Vec3& center, const Vec3& size);
   const Vec3& arena_min() const { return arena_min_; }
   const Vec3& arena_max() const { return arena_max_; }
+  // The side of the grid's cells (m) when the largest movable entity's
+  // bounding radius is `max_movable_radius` (before the cap on the cell
+  // count that grows the cells of a huge, nearly empty arena).
+  static double GridCellSize(double max_movable_radius) {
+    return std::max(0.5, 2.0 * max_movable_radius);
+  }
   Floor& floor() { return floor_; }
   const Floor& floor() const { return floor_; }
   // A flat ceiling over the arena (<ceiling>): its height z (world frame),
