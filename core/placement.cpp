@@ -249,10 +249,12 @@ Vec3 Draw(const DistributeDraw& draw, RandomStream& rng, size_t index) {
 
 uint64_t RowKey(const Vec3& p, const Vec3& lo, const Vec3& hi, double cell) {
   const double wx = hi.x() - lo.x(), wy = hi.y() - lo.y();
-  // The row as the space's grid computes it (Space::CellY), if its cells
-  // are `cell` wide.
-  const int rows = std::max(1, static_cast<int>(std::ceil(wy / cell)));
-  const auto row = static_cast<uint64_t>(ClampedCellIndex((p.y() - lo.y()) * (1.0 / cell), rows));
+  // The row as the space's grid finds it (Space::CellY: clamped to the
+  // rows, NaN in the first), kept below 2^32 rows; in doubles, so that a
+  // huge arena cannot overflow an int.
+  const double rows = std::clamp(std::ceil(wy / cell), 1.0, 4294967296.0);
+  const double f = (p.y() - lo.y()) * (1.0 / cell);
+  const uint64_t row = f >= 1 ? static_cast<uint64_t>(std::min(f, rows - 1)) : 0;
   constexpr double kSteps = 2147483648.0;  // 2^31 along x
   const double t = wx > 0 ? (p.x() - lo.x()) / wx : 0;
   // Places are inside the arena; the bounds only keep a key in range.

@@ -130,9 +130,10 @@ Vec3 Draw(const DistributeDraw& draw, RandomStream& rng, size_t index);
 // base_num + i: with order="drawn" it is the i-th drawn and added, each as
 // soon as it is drawn; with order="place" the whole block is drawn first,
 // then numbered and added in the order of its places row by row over the
-// arena, rows as wide as the space's grid cells (RowKey). Stops at the first entity that finds no
-// place in max_trials draws, recorded in `diagnostics` against `file`, or that `add` refuses
-// (returns an invalid handle: it recorded why).
+// arena, rows as wide as the space's grid cells (RowKey). Stops at the
+// first entity that finds no place in max_trials draws, recorded in
+// `diagnostics` against `file`, or that `add` refuses (returns an invalid
+// handle: it recorded why).
 void PlaceDistributed(const DistributeSpec& block, uint64_t seed, const std::string& file,
                       const Space& space, PlacementIndex& index,
                       const std::function<EntityHandle(const EntityDesc&)>& add,

@@ -104,21 +104,23 @@ TEST(Scenario, DenseSwarmNeverOverlaps) {
   EXPECT_GT(moved / robots.size(), 0.5);
 }
 
+// 200 marXbots placed at random in a walled 3.6 m square, numbered `order`.
+auto LoadDistributed(const std::string& order) {
+  return LoadXml(Experiment(
+      "<walls thickness=\"0.1\" height=\"0.5\"/>"
+      "<distribute><position method=\"uniform\" min=\"-1.8,-1.8,0\" max=\"1.8,1.8,0\"/>"
+      "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
+      "<entity quantity=\"200\" max_trials=\"1000\" order=\"" +
+          order +
+          "\"><marxbot id=\"mb\"><controller config=\"dc\"/></marxbot></entity></distribute>",
+      DiffusionController("0.05")));
+}
+
 // order="place" changes which robot stands where, not where robots stand:
 // the same places as drawn, numbered along the floor, so that a robot's
 // neighbours in memory are its neighbours on the floor.
 TEST(Scenario, DistributeNumberedByPlaceKeepsThePlacesAndNumbersThemAlongTheFloor) {
-  auto load = [](const std::string& order) {
-    return LoadXml(Experiment(
-        "<walls thickness=\"0.1\" height=\"0.5\"/>"
-        "<distribute><position method=\"uniform\" min=\"-1.8,-1.8,0\" max=\"1.8,1.8,0\"/>"
-        "<orientation method=\"uniform\" min=\"0,0,0\" max=\"360,0,0\"/>"
-        "<entity quantity=\"200\" max_trials=\"1000\" order=\"" +
-            order +
-            "\"><marxbot id=\"mb\"><controller config=\"dc\"/></marxbot></entity></distribute>",
-        DiffusionController("0.05")));
-  };
-  auto drawn = load("drawn"), by_place = load("place");
+  auto drawn = LoadDistributed("drawn"), by_place = LoadDistributed("place");
   auto places = [](const Simulation& sim) {
     std::vector<std::array<double, 4>> out;  // x, y, yaw, id number
     for (int i = 0; i < 200; ++i) {
@@ -151,6 +153,20 @@ TEST(Scenario, DistributeNumberedByPlaceKeepsThePlacesAndNumbersThemAlongTheFloo
     return v;
   };
   EXPECT_EQ(by_place_of(a), by_place_of(b));
+}
+
+// Numbered by place, robots are stored in the order the space's grid lists
+// them (row of cells by row of cells), the order kinematics2d's collision
+// test walks: its per-robot arrays are then read and written in sequence.
+TEST(Scenario, DistributeNumberedByPlaceIsStoredInTheOrderOfTheSpacesGrid) {
+  auto in_grid_order = [](Simulation& sim) {
+    sim.space().UpdateIndex();
+    const std::vector<uint32_t>& by_cell = sim.space().movable_by_cell();
+    EXPECT_EQ(by_cell.size(), 200u);
+    return std::is_sorted(by_cell.begin(), by_cell.end());
+  };
+  EXPECT_TRUE(in_grid_order(*LoadDistributed("place")));
+  EXPECT_FALSE(in_grid_order(*LoadDistributed("drawn")));
 }
 
 }  // namespace
